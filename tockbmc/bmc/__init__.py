@@ -1,0 +1,1 @@
+"""bmc layer: built in a later issue; see DEVELOPERS.md."""

@@ -1,0 +1,1 @@
+"""encodings layer: built in a later issue; see DEVELOPERS.md."""

@@ -1,0 +1,682 @@
+"""The resolved, type-checked model: the value every later layer consumes.
+
+Everything here is a frozen dataclass.  Names are resolved to declarations,
+expressions carry their types, and every node keeps its source position so
+that later layers can point back at the model text.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import TYPE_CHECKING, Union
+
+if TYPE_CHECKING:
+    from tockbmc.model.diagnostics import Diagnostic
+
+
+@dataclass(frozen=True)
+class Pos:
+    """A source span: 1-based line and column of its start, and of its end."""
+
+    path: str
+    line: int
+    column: int
+    end_line: int = 0
+    end_column: int = 0
+
+    def __str__(self) -> str:
+        return f"{self.path}:{self.line}:{self.column}"
+
+
+# --------------------------------------------------------------------- types
+
+
+@dataclass(frozen=True)
+class Type:
+    """Base of the model's types."""
+
+    def __str__(self) -> str:
+        return self.name
+
+    @property
+    def name(self) -> str:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class PrimitiveType(Type):
+    """A built-in type: int, nat, real, boolean or string."""
+
+    kind: str
+
+    @property
+    def name(self) -> str:
+        return self.kind
+
+
+INT = PrimitiveType("int")
+NAT = PrimitiveType("nat")
+REAL = PrimitiveType("real")
+BOOLEAN = PrimitiveType("boolean")
+STRING = PrimitiveType("string")
+NUMERIC = (NAT, INT, REAL)
+
+
+@dataclass(frozen=True)
+class GivenType(Type):
+    """A `type T` declaration: values are opaque and compared only for equality."""
+
+    qname: str
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+@dataclass(frozen=True)
+class EnumType(Type):
+    """An `enumeration E { A B }`."""
+
+    qname: str
+    literals: tuple[str, ...]
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+@dataclass(frozen=True)
+class RecordField:
+    name: str
+    type: Type
+
+
+@dataclass(frozen=True)
+class RecordType(Type):
+    """A `datatype R { f : T ... }` (also written `record`)."""
+
+    qname: str
+    fields: tuple[RecordField, ...]
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+    def field_type(self, name: str) -> Type | None:
+        for f in self.fields:
+            if f.name == name:
+                return f.type
+        return None
+
+
+@dataclass(frozen=True)
+class ErrorType(Type):
+    """The type of an expression that failed to check; compatible with all."""
+
+    @property
+    def name(self) -> str:
+        return "<error>"
+
+
+ERROR = ErrorType()
+
+
+def is_numeric(t: Type) -> bool:
+    return t in NUMERIC or isinstance(t, ErrorType)
+
+
+def numeric_join(a: Type, b: Type) -> Type:
+    """The smallest numeric type holding both (nat < int < real)."""
+    if isinstance(a, ErrorType) or isinstance(b, ErrorType):
+        return ERROR
+    order = {NAT: 0, INT: 1, REAL: 2}
+    return a if order[a] >= order[b] else b  # type: ignore[index]
+
+
+def assignable(target: Type, value: Type) -> bool:
+    """Whether a value of type `value` may be stored where `target` is expected.
+
+    Integers fit reals; an `int` value fits a `nat` place (whether it is
+    non-negative is a property of the run, checked by the engines, as in
+    RoboChart).  A `real` never fits an integer place.
+    """
+    if isinstance(target, ErrorType) or isinstance(value, ErrorType):
+        return True
+    if target == value:
+        return True
+    if target == REAL and value in (INT, NAT):
+        return True
+    if target in (INT, NAT) and value in (INT, NAT):
+        return True
+    return False
+
+
+def comparable(a: Type, b: Type) -> bool:
+    return assignable(a, b) or assignable(b, a)
+
+
+# --------------------------------------------------------------------- declarations
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A variable, constant or parameter.
+
+    `owner` is the qualified name of the element declaring it (a machine,
+    controller, interface, operation or function).  `initial` is None for a
+    variable without an initial value, or a constant that is a parameter.
+    """
+
+    name: str
+    type: Type
+    constant: bool
+    owner: str
+    pos: Pos
+    initial: Expr | None = None
+    kind: str = "local"  # local | interface | parameter
+
+
+@dataclass(frozen=True)
+class Event:
+    name: str
+    type: Type | None
+    owner: str
+    pos: Pos
+    broadcast: bool = False
+
+
+@dataclass(frozen=True)
+class Clock:
+    name: str
+    owner: str
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class OperationSig:
+    """A platform operation: visible as `M::nameCall.args` when called."""
+
+    name: str
+    parameters: tuple[Variable, ...]
+    owner: str
+    pos: Pos
+    terminates: bool = False
+
+
+@dataclass(frozen=True)
+class Function:
+    """`function f(x : T) : U { precondition … postcondition … }`.
+
+    `definition` is set when a postcondition reads `result == e`; otherwise the
+    function is uninterpreted, constrained by its conditions.
+    """
+
+    qname: str
+    parameters: tuple[Variable, ...]
+    result: Type
+    preconditions: tuple[Expr, ...]
+    postconditions: tuple[Expr, ...]
+    definition: Expr | None
+    pos: Pos
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+@dataclass(frozen=True)
+class Interface:
+    qname: str
+    events: tuple[Event, ...]
+    variables: tuple[Variable, ...]
+    operations: tuple[OperationSig, ...]
+    clocks: tuple[Clock, ...]
+    pos: Pos
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+# --------------------------------------------------------------------- expressions
+
+
+@dataclass(frozen=True)
+class Expr:
+    type: Type
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class Literal(Expr):
+    """An integer (int), real (Fraction), boolean (bool) or string (str) literal."""
+
+    value: Union[int, Fraction, bool, str]
+
+
+@dataclass(frozen=True)
+class EnumLiteral(Expr):
+    enum: EnumType
+    literal: str
+
+
+@dataclass(frozen=True)
+class VarRef(Expr):
+    variable: Variable
+
+
+@dataclass(frozen=True)
+class ResultRef(Expr):
+    """`result` in a function's postcondition."""
+
+
+@dataclass(frozen=True)
+class FieldRef(Expr):
+    record: Expr
+    field_name: str
+
+
+@dataclass(frozen=True)
+class RecordLiteral(Expr):
+    fields: tuple[tuple[str, Expr], ...]
+
+
+@dataclass(frozen=True)
+class Unary(Expr):
+    op: str  # "not" | "-"
+    operand: Expr
+
+
+@dataclass(frozen=True)
+class Binary(Expr):
+    """`op` is one of + - * / % == != < <= > >= and or implies iff."""
+
+    op: str
+    left: Expr
+    right: Expr
+
+
+@dataclass(frozen=True)
+class IfExpr(Expr):
+    condition: Expr
+    then: Expr
+    otherwise: Expr
+
+
+@dataclass(frozen=True)
+class Call(Expr):
+    function: Function
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Since(Expr):
+    clock: Clock
+
+
+@dataclass(frozen=True)
+class SinceEntry(Expr):
+    state: str  # node path within the machine
+
+
+@dataclass(frozen=True)
+class Interval(Expr):
+    """`[a, b]` as used by `wait`: bounds and whether each end is closed."""
+
+    low: Expr
+    high: Expr
+    low_closed: bool
+    high_closed: bool
+
+
+# --------------------------------------------------------------------- statements
+
+
+@dataclass(frozen=True)
+class Stmt:
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class Skip(Stmt):
+    pass
+
+
+@dataclass(frozen=True)
+class Seq(Stmt):
+    statements: tuple[Stmt, ...]
+
+
+@dataclass(frozen=True)
+class Assign(Stmt):
+    """`x = e` or `x.f.g = e`: `fields` is the path into a record variable."""
+
+    variable: Variable
+    fields: tuple[str, ...]
+    value: Expr
+
+
+@dataclass(frozen=True)
+class Send(Stmt):
+    """An output in an action: `e`, `e!v` or `e.v`."""
+
+    event: Event
+    value: Expr | None
+
+
+@dataclass(frozen=True)
+class Receive(Stmt):
+    """An input in an action: `e?x`."""
+
+    event: Event
+    variable: Variable | None
+
+
+@dataclass(frozen=True)
+class OperationCall(Stmt):
+    """A call of a platform operation (`operation` is an OperationSig) or of a
+    defined operation (an OperationDef, inlined by the encoder)."""
+
+    operation: Union[OperationSig, "OperationDef"]
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class If(Stmt):
+    condition: Expr
+    then: Stmt
+    otherwise: Stmt
+
+
+@dataclass(frozen=True)
+class Wait(Stmt):
+    """`wait(n)` (low == high) or `wait([a, b])`."""
+
+    low: Expr
+    high: Expr
+
+
+@dataclass(frozen=True)
+class ClockReset(Stmt):
+    clock: Clock
+
+
+@dataclass(frozen=True)
+class Deadline(Stmt):
+    """`s <{d}`: `s` must complete within `bound` tocks."""
+
+    statement: Stmt
+    bound: Expr
+
+
+# --------------------------------------------------------------------- behaviour
+
+
+@dataclass(frozen=True)
+class Node:
+    """A state, initial junction, junction, final state or probabilistic junction.
+
+    `path` is unique within its machine: ancestor names joined by `::`.
+    """
+
+    kind: str  # state | initial | junction | final | probabilistic
+    name: str
+    path: str
+    parent: str | None
+    pos: Pos
+    entry: Stmt | None = None
+    during: Stmt | None = None
+    exit: Stmt | None = None
+    children: tuple[str, ...] = ()
+
+    @property
+    def composite(self) -> bool:
+        return self.kind == "state" and bool(self.children)
+
+
+@dataclass(frozen=True)
+class Trigger:
+    """The event part of a transition: `e`, `e?x`, `e!v` or `e.v`."""
+
+    event: Event
+    kind: str  # plain | input | output | sync
+    variable: Variable | None = None
+    value: Expr | None = None
+
+
+@dataclass(frozen=True)
+class Transition:
+    name: str
+    source: str
+    target: str
+    pos: Pos
+    container: str | None  # node path of the state declaring it, None at top level
+    trigger: Trigger | None = None
+    clock_resets: tuple[Clock, ...] = ()
+    deadline: Expr | None = None
+    condition: Expr | None = None
+    is_else: bool = False
+    action: Stmt | None = None
+
+
+@dataclass(frozen=True)
+class Behaviour:
+    """What machines and defined operations share: declarations and a graph."""
+
+    qname: str
+    pos: Pos
+    variables: tuple[Variable, ...]  # local variables and constants
+    interface_variables: tuple[Variable, ...]  # from required/provided interfaces
+    events: tuple[Event, ...]
+    clocks: tuple[Clock, ...]
+    operations: tuple[OperationSig, ...]  # platform operations it may call
+    nodes: tuple[Node, ...]
+    transitions: tuple[Transition, ...]
+    required_interfaces: tuple[str, ...] = ()
+    provided_interfaces: tuple[str, ...] = ()
+    used_interfaces: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+    def node(self, path: str) -> Node:
+        for n in self.nodes:
+            if n.path == path:
+                return n
+        raise KeyError(path)
+
+    def event(self, name: str) -> Event | None:
+        for e in self.events:
+            if e.name == name:
+                return e
+        return None
+
+    @property
+    def constants(self) -> tuple[Variable, ...]:
+        return tuple(v for v in self.variables if v.constant)
+
+
+@dataclass(frozen=True)
+class StateMachine(Behaviour):
+    pass
+
+
+@dataclass(frozen=True)
+class OperationDef(Behaviour):
+    parameters: tuple[Variable, ...] = ()
+    terminates: bool = False
+
+
+@dataclass(frozen=True)
+class Connection:
+    """`connection A on e to B on f`: ends are element names local to the owner."""
+
+    source: str
+    source_event: Event
+    target: str
+    target_event: Event
+    asynchronous: bool
+    bidirectional: bool
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class MachineInstance:
+    """A machine inside a controller: `sref name = S` or an inline `stm`."""
+
+    name: str
+    machine: StateMachine
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class OperationInstance:
+    """A defined operation inside a controller: `opref name = Op` or an inline `operation`."""
+
+    name: str
+    operation: OperationDef
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class Controller:
+    qname: str
+    pos: Pos
+    events: tuple[Event, ...]
+    variables: tuple[Variable, ...]
+    machines: tuple[MachineInstance, ...]
+    connections: tuple[Connection, ...]
+    operations: tuple[OperationInstance, ...]
+    required_interfaces: tuple[str, ...] = ()
+    provided_interfaces: tuple[str, ...] = ()
+    used_interfaces: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+    def event(self, name: str) -> Event | None:
+        for e in self.events:
+            if e.name == name:
+                return e
+        return None
+
+
+@dataclass(frozen=True)
+class ControllerInstance:
+    name: str
+    controller: Controller
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class RoboticPlatform:
+    qname: str
+    pos: Pos
+    events: tuple[Event, ...]
+    variables: tuple[Variable, ...]
+    operations: tuple[OperationSig, ...]
+    provided_interfaces: tuple[str, ...] = ()
+    used_interfaces: tuple[str, ...] = ()
+    required_interfaces: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+@dataclass(frozen=True)
+class Module:
+    qname: str
+    pos: Pos
+    platform: RoboticPlatform | None
+    platform_name: str | None
+    controllers: tuple[ControllerInstance, ...]
+    connections: tuple[Connection, ...]
+
+    @property
+    def name(self) -> str:
+        return self.qname.rsplit("::", 1)[-1]
+
+
+# --------------------------------------------------------------------- assertions
+
+
+@dataclass(frozen=True)
+class CspBlock:
+    """A `csp NAME csp-begin … csp-end` block, kept as text until it is parsed."""
+
+    name: str
+    timing: str | None  # "timed" | "untimed" | None
+    associated: tuple[str, ...]
+    text: str
+    pos: Pos
+    defines: tuple[str, ...]  # process names defined at its top level
+
+
+@dataclass(frozen=True)
+class ConstantSetting:
+    """`constant c of P set to v`: `element` is the qualified name of P."""
+
+    constant: str
+    element: str
+    value: Expr
+    pos: Pos
+    kind: str = "constant"  # constant | parameter (of an operation)
+
+
+@dataclass(frozen=True)
+class Assertion:
+    """One assertion of an `.assertions` file.
+
+    `kind` is one of: deadlock-free, divergence-free, deterministic,
+    timelock-free, terminates, reachable, refines, equals, clock-initialised.
+    `subject` and `other` are qualified names of model elements or names of
+    CSP processes (`subject_is_process` says which).
+    """
+
+    name: str
+    kind: str
+    subject: str
+    negated: bool
+    pos: Pos
+    text: str
+    timing: str | None = None
+    other: str | None = None
+    semantic_model: str | None = None  # traces | failures | failures divergences | tick-tock
+    settings: tuple[ConstantSetting, ...] = ()
+    subject_is_process: bool = False
+    other_is_process: bool = False
+
+
+# --------------------------------------------------------------------- the project
+
+
+@dataclass(frozen=True)
+class Project:
+    """A loaded directory of `.rct` and `.assertions` files, fully resolved."""
+
+    root: str
+    files: tuple[str, ...]
+    types: tuple[Type, ...] = ()
+    interfaces: tuple[Interface, ...] = ()
+    functions: tuple[Function, ...] = ()
+    machines: tuple[StateMachine, ...] = ()
+    operations: tuple[OperationDef, ...] = ()
+    controllers: tuple[Controller, ...] = ()
+    platforms: tuple[RoboticPlatform, ...] = ()
+    modules: tuple[Module, ...] = ()
+    csp_blocks: tuple[CspBlock, ...] = ()
+    assertions: tuple[Assertion, ...] = ()
+    warnings: tuple["Diagnostic", ...] = ()
+    sources: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
+
+    def element(self, qname: str) -> StateMachine | Controller | Module | OperationDef | None:
+        """The machine, controller, module or operation with this qualified name."""
+        for group in (self.machines, self.controllers, self.modules, self.operations):
+            for item in group:
+                if item.qname == qname:
+                    return item
+        return None

@@ -1,0 +1,46 @@
+"""Problems found in input files, as values with a source position."""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass
+from typing import Iterable
+
+from tockbmc.model.ast import Pos
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One problem: where it is and what it is."""
+
+    pos: Pos
+    message: str
+    severity: str = "error"
+
+    def __str__(self) -> str:
+        return f"{self.pos}: {self.severity}: {self.message}"
+
+
+class ModelError(Exception):
+    """Raised by `load` when the input has errors; carries all of them."""
+
+    def __init__(self, diagnostics: Iterable[Diagnostic], sources: dict[str, str]):
+        self.diagnostics = tuple(sorted(diagnostics, key=_order))
+        self.sources = sources
+        super().__init__("\n".join(str(d) for d in self.diagnostics))
+
+
+def _order(d: Diagnostic) -> tuple[str, int, int]:
+    return (d.pos.path, d.pos.line, d.pos.column)
+
+
+def suggestion(name: str, known: Iterable[str]) -> str:
+    """`; did you mean 'x'?` for the closest known name, or ''."""
+    candidates = sorted(set(known))
+    match = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+    if not match:
+        short = name.rsplit("::", 1)[-1]
+        by_short = {c.rsplit("::", 1)[-1]: c for c in candidates}
+        close = difflib.get_close_matches(short, sorted(by_short), n=1, cutoff=0.6)
+        match = [by_short[close[0]]] if close else []
+    return f"; did you mean '{match[0]}'?" if match else ""

@@ -1,0 +1,517 @@
+"""Resolve and type-check expressions, statements and communications.
+
+A `Scope` says what names an expression may use; `ExprChecker` turns syntax
+trees into the typed expressions and statements of `tockbmc.model.ast`,
+reporting problems through a callback rather than raising, so that one run
+reports every independent error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Callable
+
+from lark import Token, Tree
+
+from tockbmc.model import ast
+from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
+from tockbmc.model.diagnostics import suggestion
+from tockbmc.model.scope import qname_text
+
+Report = Callable[[Pos, str], None]
+
+# Constructs of the expression language that language.md lists as "Later".
+UNSUPPORTED_EXPRESSIONS = {
+    "forall_expr": "quantified expressions ('forall')",
+    "exists_expr": "quantified expressions ('exists')",
+    "lambda_expr": "lambda expressions",
+    "definite_description": "definite descriptions ('the')",
+    "let_expr": "let expressions",
+    "seq_expr": "sequences",
+    "set_expr": "sets",
+    "set_range_expr": "sets",
+    "tuple_expr": "tuples",
+    "vector_expr": "vectors and matrices",
+    "index_expr": "vectors, matrices and sequences (indexing)",
+    "in_expr": "sets (membership 'in')",
+    "cat_expr": "sequences (concatenation)",
+    "as_expr": "toolkits (type casts 'as')",
+    "is_expr": "toolkits (type tests 'is')",
+}
+
+_ARITHMETIC = {"+", "-", "*", "/", "%"}
+_ORDER = {"<", "<=", ">", ">="}
+_EQUALITY = {"==", "!="}
+_LOGIC = {"/\\": "and", "\\/": "or", "=>": "implies", "iff": "iff", "<=>": "iff"}
+
+
+def pos_of(path: str, node: Tree | Token) -> Pos:
+    """The source span of a tree or token."""
+    if isinstance(node, Token):
+        return Pos(path, node.line or 1, node.column or 1, node.end_line or 0, node.end_column or 0)
+    meta = node.meta
+    if getattr(meta, "empty", True):
+        for child in node.children:
+            if isinstance(child, (Tree, Token)):
+                return pos_of(path, child)
+        return Pos(path, 1, 1)
+    return Pos(path, meta.line, meta.column, meta.end_line, meta.end_column)
+
+
+@dataclass
+class Scope:
+    """The names visible to the expressions and statements of one element."""
+
+    path: str
+    owner: str
+    variables: dict[str, ast.Variable] = field(default_factory=dict)
+    events: dict[str, ast.Event] = field(default_factory=dict)
+    clocks: dict[str, ast.Clock] = field(default_factory=dict)
+    operations: dict[str, ast.OperationSig] = field(default_factory=dict)
+    # Looks up a global name among functions, enumerations, operations, types.
+    resolve_global: Callable[[str, str], object | None] = lambda name, kind: None
+    global_names: Callable[[str], list[str]] = lambda kind: []
+    states: dict[str, str] = field(default_factory=dict)  # name or path -> node path
+    result_type: ast.Type | None = None
+    toolkit: bool = False  # the file imports a toolkit: its functions are unknown here
+
+
+class ExprChecker:
+    """Builds typed expressions and statements for one scope."""
+
+    def __init__(self, scope: Scope, report: Report, resolve_type: Callable[[Tree], ast.Type]):
+        self.scope = scope
+        self.report = report
+        self.resolve_type = resolve_type
+
+    # ----------------------------------------------------------------- helpers
+
+    def pos(self, node: Tree | Token) -> Pos:
+        return pos_of(self.scope.path, node)
+
+    def error(self, node: Tree | Token, message: str) -> None:
+        self.report(self.pos(node), message)
+
+    def expect(self, node: Tree | Token, e: ast.Expr, expected: ast.Type, what: str) -> ast.Expr:
+        if not ast.assignable(expected, e.type):
+            self.error(node, f"type error: {what} must be {expected}, but this is {e.type}")
+        return e
+
+    def condition(self, node: Tree) -> ast.Expr:
+        e = self.expr(node)
+        return self.expect(node, e, BOOLEAN, "a condition")
+
+    def _unknown(self, node: Tree | Token, what: str, name: str, known: list[str]) -> None:
+        self.error(node, f"unknown {what} '{name}'{suggestion(name, known)}")
+
+    # ----------------------------------------------------------------- expressions
+
+    def expr(self, node: Tree | Token) -> ast.Expr:
+        """Resolve and type-check one expression tree."""
+        p = self.pos(node)
+        if isinstance(node, Token):  # pragma: no cover - the grammar wraps tokens
+            self.error(node, "syntax error: expected an expression")
+            return ast.Literal(ERROR, p, 0)
+        kind = node.data
+        if kind in UNSUPPORTED_EXPRESSIONS:
+            self.error(node, f"unsupported: {UNSUPPORTED_EXPRESSIONS[kind]}")
+            return ast.Literal(ERROR, p, 0)
+        method = getattr(self, f"_x_{kind}", None)
+        if method is None:
+            self.error(node, f"unsupported: expression '{kind}'")
+            return ast.Literal(ERROR, p, 0)
+        return method(node, p)
+
+    def _x_int_lit(self, node: Tree, p: Pos) -> ast.Expr:
+        return ast.Literal(NAT, p, int(node.children[0]))
+
+    def _x_float_lit(self, node: Tree, p: Pos) -> ast.Expr:
+        return ast.Literal(REAL, p, Fraction(str(node.children[0])))
+
+    def _x_bool_lit(self, node: Tree, p: Pos) -> ast.Expr:
+        return ast.Literal(BOOLEAN, p, str(node.children[0]) == "true")
+
+    def _x_string_lit(self, node: Tree, p: Pos) -> ast.Expr:
+        text = str(node.children[0])[1:-1]
+        return ast.Literal(STRING, p, text)
+
+    def _x_result_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        if self.scope.result_type is None:
+            self.error(node, "'result' is only meaningful in a function's postcondition")
+            return ast.ResultRef(ERROR, p)
+        return ast.ResultRef(self.scope.result_type, p)
+
+    def _x_name_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        qn = node.children[0]
+        name = qname_text(qn)
+        var = self.scope.variables.get(name)
+        if var is not None:
+            return ast.VarRef(var.type, p, var)
+        literal = self.enum_literal(name, p)
+        if literal is not None:
+            return literal
+        enum = self.scope.resolve_global(name, "enum_literal")
+        if isinstance(enum, ast.EnumType):  # RoboChart also accepts a literal's bare name
+            return ast.EnumLiteral(enum, p, enum, name)
+        if name in self.scope.events:
+            self.error(node, f"'{name}' is an event, not a value")
+            return ast.Literal(ERROR, p, 0)
+        known = list(self.scope.variables) + self.scope.global_names("enum_literal")
+        self._unknown(node, "name", name, known)
+        return ast.Literal(ERROR, p, 0)
+
+    def enum_literal(self, name: str, p: Pos) -> ast.Expr | None:
+        if "::" not in name:
+            return None
+        type_name, _, literal = name.rpartition("::")
+        enum = self.scope.resolve_global(type_name, "type")
+        if isinstance(enum, ast.EnumType):
+            if literal in enum.literals:
+                return ast.EnumLiteral(enum, p, enum, literal)
+            self.report(p, f"enumeration {enum.name} has no literal '{literal}'"
+                        f"{suggestion(literal, list(enum.literals))}")
+            return ast.Literal(ERROR, p, 0)
+        return None
+
+    def _x_select(self, node: Tree, p: Pos) -> ast.Expr:
+        record = self.expr(node.children[0])
+        field_name = str(node.children[1])
+        if isinstance(record.type, ast.ErrorType):
+            return ast.FieldRef(ERROR, p, record, field_name)
+        if not isinstance(record.type, ast.RecordType):
+            self.error(node, f"type error: '.{field_name}' selects a field, but this is {record.type}, not a record")
+            return ast.FieldRef(ERROR, p, record, field_name)
+        ftype = record.type.field_type(field_name)
+        if ftype is None:
+            known = [f.name for f in record.type.fields]
+            self.error(node.children[1], f"record {record.type.name} has no field "
+                       f"'{field_name}'{suggestion(field_name, known)}")
+            return ast.FieldRef(ERROR, p, record, field_name)
+        return ast.FieldRef(ftype, p, record, field_name)
+
+    def _x_record_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        name = qname_text(node.children[0])
+        rtype = self.scope.resolve_global(name, "type")
+        if not isinstance(rtype, ast.RecordType):
+            self._unknown(node.children[0], "record type", name, self.scope.global_names("record"))
+            return ast.Literal(ERROR, p, 0)
+        values: dict[str, ast.Expr] = {}
+        for fd in node.children[1].children:
+            fname = str(fd.children[0])
+            value = self.expr(fd.children[1])
+            ftype = rtype.field_type(fname)
+            if ftype is None:
+                self.error(fd, f"record {rtype.name} has no field '{fname}'"
+                           f"{suggestion(fname, [f.name for f in rtype.fields])}")
+                continue
+            self.expect(fd.children[1], value, ftype, f"field '{fname}'")
+            values[fname] = value
+        return ast.RecordLiteral(rtype, p, tuple(values.items()))
+
+    def _x_not_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        operand = self.expr(node.children[0])
+        self.expect(node.children[0], operand, BOOLEAN, "the operand of 'not'")
+        return ast.Unary(BOOLEAN, p, "not", operand)
+
+    def _x_neg(self, node: Tree, p: Pos) -> ast.Expr:
+        operand = self.expr(node.children[0])
+        if not ast.is_numeric(operand.type):
+            self.error(node, f"type error: '-' needs a number, but this is {operand.type}")
+            return ast.Unary(ERROR, p, "-", operand)
+        rtype = INT if operand.type == NAT else operand.type
+        return ast.Unary(rtype, p, "-", operand)
+
+    def _x_binop(self, node: Tree, p: Pos) -> ast.Expr:
+        left_node, op_token, right_node = node.children
+        op = str(op_token)
+        left, right = self.expr(left_node), self.expr(right_node)
+        if op in _LOGIC:
+            self.expect(left_node, left, BOOLEAN, f"the left operand of '{op}'")
+            self.expect(right_node, right, BOOLEAN, f"the right operand of '{op}'")
+            return ast.Binary(BOOLEAN, p, _LOGIC[op], left, right)
+        if op in _EQUALITY:
+            if not ast.comparable(left.type, right.type):
+                self.error(node, f"type error: cannot compare {left.type} with {right.type}")
+            return ast.Binary(BOOLEAN, p, op, left, right)
+        if op in _ORDER:
+            for side, e in ((left_node, left), (right_node, right)):
+                if not ast.is_numeric(e.type):
+                    self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
+            return ast.Binary(BOOLEAN, p, op, left, right)
+        assert op in _ARITHMETIC
+        for side, e in ((left_node, left), (right_node, right)):
+            if not ast.is_numeric(e.type):
+                self.error(side, f"type error: '{op}' needs numbers, but this is {e.type}")
+                return ast.Binary(ERROR, p, op, left, right)
+        rtype = ast.numeric_join(left.type, right.type)
+        if op == "-" and rtype == NAT:
+            rtype = INT
+        if op == "/" and rtype != REAL and not isinstance(rtype, ast.ErrorType):
+            rtype = INT if rtype == NAT else rtype  # integer division on integers
+        return ast.Binary(rtype, p, op, left, right)
+
+    def _x_if_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        c, a, b = (self.expr(n) for n in node.children)
+        self.expect(node.children[0], c, BOOLEAN, "the condition of 'if'")
+        if ast.is_numeric(a.type) and ast.is_numeric(b.type):
+            rtype = ast.numeric_join(a.type, b.type)
+        elif ast.comparable(a.type, b.type):
+            rtype = b.type if isinstance(a.type, ast.ErrorType) else a.type
+        else:
+            self.error(node, f"type error: the branches of 'if' have types {a.type} and {b.type}")
+            rtype = ERROR
+        return ast.IfExpr(rtype, p, c, a, b)
+
+    def _x_call_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        callee = node.children[0]
+        args_nodes = node.children[1].children if len(node.children) > 1 else []
+        if not (isinstance(callee, Tree) and callee.data == "name_expr"):
+            value = self.expr(callee)
+            if not isinstance(value.type, ast.ErrorType):
+                self.error(callee, "only named functions can be called")
+            return ast.Literal(ERROR, p, 0)
+        name = qname_text(callee.children[0])
+        function = self.scope.resolve_global(name, "function")
+        if not isinstance(function, ast.Function):
+            var = self.scope.variables.get(name)
+            if var is not None:
+                if not isinstance(var.type, ast.ErrorType):  # else its type was already reported
+                    self.error(callee, f"'{name}' is a variable of type {var.type}, not a function")
+            elif self.scope.toolkit:
+                pass  # a toolkit function: the import is reported as unsupported
+            elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
+                self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
+            else:
+                self._unknown(callee, "function", name, self.scope.global_names("function"))
+            for a in args_nodes:
+                self.expr(a)
+            return ast.Literal(ERROR, p, 0)
+        args = self._arguments(node, name, args_nodes, function.parameters)
+        return ast.Call(function.result, p, function, args)
+
+    def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
+        args = tuple(self.expr(a) for a in args_nodes)
+        if len(args) != len(params):
+            self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given")
+        for a_node, a, param in zip(args_nodes, args, params):
+            self.expect(a_node, a, param.type, f"argument '{param.name}' of '{name}'")
+        return args
+
+    def _x_since_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        name = qname_text(node.children[0])
+        clock = self.scope.clocks.get(name)
+        if clock is None:
+            self._unknown(node.children[0], "clock", name, list(self.scope.clocks))
+            return ast.Literal(ERROR, p, 0)
+        return ast.Since(NAT, p, clock)
+
+    def _x_since_entry_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        name = qname_text(node.children[0])
+        path = self.scope.states.get(name)
+        if path is None:
+            self._unknown(node.children[0], "state", name, list(self.scope.states))
+            return ast.Literal(ERROR, p, 0)
+        return ast.SinceEntry(NAT, p, path)
+
+    def _range(self, node: Tree, p: Pos, low_closed: bool) -> ast.Expr:
+        low, high = self.expr(node.children[0]), self.expr(node.children[1])
+        for side, e in zip(node.children[:2], (low, high)):
+            if not ast.is_numeric(e.type):
+                self.error(side, f"type error: an interval bound must be a number, but this is {e.type}")
+        high_closed = node.children[2].data == "closed"
+        return ast.Interval(ast.numeric_join(low.type, high.type) if ast.is_numeric(low.type) and ast.is_numeric(high.type) else ERROR,
+                            p, low, high, low_closed, high_closed)
+
+    def _x_closed_range_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._range(node, p, True)
+
+    def _x_open_range_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._range(node, p, False)
+
+    # ----------------------------------------------------------------- communications
+
+    def event(self, node: Tree | Token) -> ast.Event | None:
+        name = qname_text(node)
+        event = self.scope.events.get(name)
+        if event is None:
+            self._unknown(node, "event", name, list(self.scope.events))
+        return event
+
+    def communication(self, node: Tree) -> tuple[ast.Event | None, str, ast.Variable | None, ast.Expr | None]:
+        """(event, kind, variable, value) for a communication: kind is plain, input, output or sync."""
+        kind = node.data
+        if kind == "comm_predicate":
+            self.error(node, "unsupported: trigger predicates ('[| … |]')")
+            return None, "plain", None, None
+        if kind == "comm_plain":
+            parts = node.children[0].children
+            event = self.event(parts[0])
+            if len(parts) == 1:
+                return event, "plain", None, None
+            value = self._designator_value(parts[1:])
+            if event is not None:
+                self._check_value(parts[1], event, value)
+            return event, "sync", None, value
+        event = self.event(node.children[0])
+        if kind == "comm_input":
+            name = qname_text(node.children[1])
+            var = self.scope.variables.get(name)
+            if var is None:
+                self._unknown(node.children[1], "variable", name, list(self.scope.variables))
+            elif var.constant:
+                self.error(node.children[1], f"'{name}' is a constant: an input cannot change it")
+            elif event is not None:
+                if event.type is None:
+                    self.error(node, f"event '{event.name}' carries no value, so '?{name}' has nothing to receive")
+                elif not ast.assignable(var.type, event.type):
+                    self.error(node.children[1], f"type error: '{name}' is {var.type}, but event "
+                               f"'{event.name}' carries {event.type}")
+            return event, "input", var, None
+        value = self.expr(node.children[1])
+        if event is not None:
+            self._check_value(node.children[1], event, value)
+        return event, ("output" if kind == "comm_output" else "sync"), None, value
+
+    def _designator_value(self, parts: list) -> ast.Expr:
+        """The value of `e.v` or `e.v.f` as written in a designator."""
+        value = self._x_name_expr(_name_tree(parts[0]), self.pos(parts[0]))
+        for part in parts[1:]:
+            value = self._select_known(value, qname_text(part), part)
+        return value
+
+    def _select_known(self, record: ast.Expr, fname: str, node: Tree) -> ast.Expr:
+        p = self.pos(node)
+        if isinstance(record.type, ast.RecordType):
+            ftype = record.type.field_type(fname)
+            if ftype is not None:
+                return ast.FieldRef(ftype, p, record, fname)
+            self.error(node, f"record {record.type.name} has no field '{fname}'"
+                       f"{suggestion(fname, [f.name for f in record.type.fields])}")
+        elif not isinstance(record.type, ast.ErrorType):
+            self.error(node, f"type error: '.{fname}' selects a field, but this is {record.type}")
+        return ast.FieldRef(ERROR, p, record, fname)
+
+    def _check_value(self, node: Tree | Token, event: ast.Event, value: ast.Expr) -> None:
+        if event.type is None:
+            self.error(node, f"event '{event.name}' carries no value")
+        elif not ast.assignable(event.type, value.type):
+            self.error(node, f"type error: event '{event.name}' carries {event.type}, but this is {value.type}")
+
+    # ----------------------------------------------------------------- statements
+
+    def statement(self, node: Tree) -> ast.Stmt:
+        """Resolve and type-check one statement tree."""
+        p = self.pos(node)
+        method = getattr(self, f"_s_{node.data}", None)
+        if method is None:
+            if node.data in ("comm_plain", "comm_input", "comm_output", "comm_sync", "comm_predicate"):
+                return self._communication_stmt(node, p)
+            self.error(node, f"unsupported: statement '{node.data}'")
+            return ast.Skip(p)
+        return method(node, p)
+
+    def _s_seq_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        return ast.Seq(p, tuple(self.statement(c) for c in node.children))
+
+    def _s_deadline_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        inner = self.statement(node.children[0])
+        bound = self.expr(node.children[1])
+        self.expect(node.children[1], bound, NAT, "a deadline")
+        return ast.Deadline(p, inner, bound)
+
+    def _s_if_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        cond = self.condition(node.children[0])
+        then = self.statement(node.children[1])
+        otherwise = self.statement(node.children[2]) if len(node.children) > 2 else ast.Skip(p)
+        return ast.If(p, cond, then, otherwise)
+
+    def _s_skip_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        return ast.Skip(p)
+
+    def _s_wait_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        arg = self.expr(node.children[0])
+        if isinstance(arg, ast.Interval):
+            low, high = arg.low, arg.high
+            for e in (low, high):
+                self.expect(node.children[0], e, NAT, "a wait bound")
+            return ast.Wait(p, low, high)
+        self.expect(node.children[0], arg, NAT, "a wait duration")
+        return ast.Wait(p, arg, arg)
+
+    def _s_clock_reset(self, node: Tree, p: Pos) -> ast.Stmt:
+        clock = self.clock(node.children[0])
+        return ast.ClockReset(p, clock) if clock is not None else ast.Skip(p)
+
+    def clock(self, node: Tree) -> ast.Clock | None:
+        name = qname_text(node)
+        clock = self.scope.clocks.get(name)
+        if clock is None:
+            self._unknown(node, "clock", name, list(self.scope.clocks))
+        return clock
+
+    def _s_send_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        return self._communication_stmt(node.children[0], p)
+
+    def _s_comm_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        return self._communication_stmt(node.children[0], p)
+
+    def _communication_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        event, kind, var, value = self.communication(node)
+        if event is None:
+            return ast.Skip(p)
+        if kind == "input":
+            return ast.Receive(p, event, var)
+        if kind == "plain" and event.type is not None:
+            self.error(node, f"event '{event.name}' carries {event.type}: send a value with "
+                       f"'{event.name}!v'")
+        return ast.Send(p, event, value)
+
+    def _s_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        parts = node.children[0].children
+        name = qname_text(parts[0])
+        value = self.expr(node.children[1])
+        var = self.scope.variables.get(name)
+        if var is None:
+            self._unknown(parts[0], "variable", name, list(self.scope.variables))
+            return ast.Skip(p)
+        if var.constant:
+            self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
+        target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
+        fields = []
+        for part in parts[1:]:
+            fname = qname_text(part)
+            target = self._select_known(target, fname, part)
+            fields.append(fname)
+        if not ast.assignable(target.type, value.type):
+            self.error(node.children[1], f"type error: cannot assign {value.type} to "
+                       f"'{'.'.join([name, *fields])}' of type {target.type}")
+        return ast.Assign(p, var, tuple(fields), value)
+
+    def _s_array_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        self.error(node, "unsupported: vectors, matrices and sequences (indexing)")
+        return ast.Skip(p)
+
+    def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        name = qname_text(node.children[0])
+        args_nodes = node.children[1].children if len(node.children) > 1 else []
+        # A machine calls only what its interfaces declare: a defined operation
+        # reaches it through a required interface holding its signature.
+        op = self.scope.operations.get(name)
+        if op is None:
+            if isinstance(self.scope.resolve_global(name, "function"), ast.Function):
+                self.error(node.children[0], f"'{name}' is a function: use it in an expression")
+            elif self.scope.resolve_global(name, "operation") is not None:
+                self.error(node.children[0], f"operation '{name}' is not in scope: require an interface "
+                           f"that declares '{name}(…)'")
+            else:
+                self._unknown(node.children[0], "operation", name, list(self.scope.operations))
+            for a in args_nodes:
+                self.expr(a)
+            return ast.Skip(p)
+        args = self._arguments(node, name, args_nodes, op.parameters)
+        return ast.OperationCall(p, op, args)
+
+
+def _name_tree(qn: Tree) -> Tree:
+    return Tree("name_expr", [qn], meta=qn.meta)

@@ -1,0 +1,68 @@
+"""`load`: read a RoboChart project from files and directories."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+from typing import Iterable
+
+from lark import Tree
+
+from tockbmc.model.ast import Pos, Project
+from tockbmc.model.diagnostics import Diagnostic, ModelError
+from tockbmc.model.parser import parse
+from tockbmc.model.resolver import Resolver
+
+SUFFIXES = {".rct": "rct", ".assertions": "assertions"}
+
+
+def project_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
+    """The `.rct` and `.assertions` files named by `paths`, directories searched below."""
+    found: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            found += sorted(f for f in p.rglob("*") if f.suffix in SUFFIXES and f.is_file())
+        else:
+            found.append(p)
+    return list(dict.fromkeys(found))
+
+
+def load(*paths: str | os.PathLike[str]) -> Project:
+    """Load, resolve and check a project; raises `ModelError` with every problem found."""
+    files = project_files(paths)
+    texts: dict[str, str] = {}
+    diagnostics: list[Diagnostic] = []
+    parsed: list[tuple[str, str, Tree]] = []
+    for f in files:
+        name = str(f)
+        kind = SUFFIXES.get(f.suffix)
+        if kind is None:
+            diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a RoboChart file: expected a .rct or .assertions file"))
+            continue
+        try:
+            text = f.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            diagnostics.append(Diagnostic(Pos(name, 1, 1), f"cannot read file: {exc}"))
+            continue
+        texts[name] = text
+        tree, errors = parse(text, name, kind)
+        diagnostics += errors
+        if tree is not None:
+            parsed.append((name, kind, tree))
+    if not files:
+        raise ModelError([Diagnostic(Pos(str(next(iter(map(str, paths)), ".")), 1, 1),
+                                     "no .rct or .assertions files found")], texts)
+    resolver = Resolver(parsed)
+    root = str(paths[0]) if paths else "."
+    try:
+        project = resolver.resolve(root, texts)
+    except RecursionError:
+        first = parsed[0][0] if parsed else root
+        resolver.report(Pos(first, 1, 1), "model is nested too deeply to resolve")
+        project = None
+    diagnostics += resolver.diagnostics
+    errors = [d for d in diagnostics if d.severity == "error"]
+    if errors or project is None:
+        raise ModelError(diagnostics, texts)
+    return dataclasses.replace(project, warnings=tuple(diagnostics))

@@ -1,0 +1,89 @@
+"""Parse `.rct` and `.assertions` text into Lark syntax trees.
+
+The Lark tree is the syntax tree: every node keeps its source position in
+`meta` (tokens in their own fields), and the resolver walks it once to build
+the resolved model in `tockbmc.model.ast`.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from importlib import resources
+
+from lark import Lark, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from tockbmc.model.ast import Pos
+from tockbmc.model.diagnostics import Diagnostic
+
+# Readable names for the grammar's terminals, used in syntax error messages.
+_TERMINAL_NAMES = {
+    "LBRACE": "'{'", "RBRACE": "'}'", "LPAR": "'('", "RPAR": "')'", "LSQB": "'['",
+    "RSQB": "']'", "COLON": "':'", "SEMICOLON": "';'", "COMMA": "','", "DOT": "'.'",
+    "EQUAL": "'='", "ID": "a name", "INT": "a number", "FLOAT": "a number",
+    "CSP_CODE": "'csp-begin … csp-end'", "$END": "end of file", "QMARK": "'?'",
+    "BANG": "'!'", "HASH": "'#'", "__ANON_0": "'::'",
+}
+
+
+@lru_cache(maxsize=1)
+def _parser() -> Lark:
+    grammar = resources.files("tockbmc.model").joinpath("robochart.lark").read_text()
+    return Lark(grammar, start=["rct", "assertions"], parser="lalr",
+                propagate_positions=True, maybe_placeholders=False, cache=False)
+
+
+def parse(text: str, path: str, kind: str) -> tuple[Tree | None, list[Diagnostic]]:
+    """Parse one file; `kind` is "rct" or "assertions".
+
+    Returns the tree, or None and the syntax error as a diagnostic.
+    """
+    try:
+        return _parser().parse(text, start=kind), []
+    except UnexpectedInput as exc:
+        return None, [_syntax_error(exc, text, path)]
+
+
+def _describe(token_type: str, value: str) -> str:
+    if token_type == "$END":
+        return "end of file"
+    return f"'{value}'"
+
+
+def _syntax_error(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
+    line = getattr(exc, "line", 1) or 1
+    column = getattr(exc, "column", 1) or 1
+    if isinstance(exc, UnexpectedToken):
+        token = exc.token
+        if token.type == "$END":
+            line, column = _end_position(text)
+        found = _describe(token.type, str(token))
+        expected = _expected(exc.expected)
+        message = f"syntax error: unexpected {found}" + (f"; expected {expected}" if expected else "")
+    elif isinstance(exc, UnexpectedCharacters):
+        message = f"syntax error: unexpected character {text[exc.pos_in_stream]!r}"
+    elif isinstance(exc, UnexpectedEOF):
+        line, column = _end_position(text)
+        message = "syntax error: unexpected end of file"
+    else:  # pragma: no cover - Lark has no other kinds
+        message = "syntax error"
+    return Diagnostic(Pos(path, line, column), message)
+
+
+def _end_position(text: str) -> tuple[int, int]:
+    lines = text.split("\n")
+    return len(lines), len(lines[-1]) + 1
+
+
+def _expected(terminals: set[str]) -> str:
+    names = []
+    for t in sorted(terminals):
+        if t in _TERMINAL_NAMES:
+            names.append(_TERMINAL_NAMES[t])
+        elif t.isupper() and not t.startswith("__"):
+            names.append(f"'{t.lower().replace('_', '-')}'")
+    names = sorted(set(names))
+    if not names:
+        return ""
+    if len(names) > 6:
+        return ", ".join(names[:6]) + ", …"
+    return ", ".join(names)

@@ -1,0 +1,1063 @@
+"""Turn parsed files into the resolved, checked `Project`.
+
+Declarations are entered into a global table first, then resolved on demand
+(memoised), so that the order of files and declarations does not matter.
+Every problem is collected as a `Diagnostic`; nothing here raises for bad
+input.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Callable, Iterable, TypeVar
+
+from lark import Token, Tree
+
+from tockbmc.model import ast
+from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
+from tockbmc.model.diagnostics import Diagnostic, suggestion
+from tockbmc.model.expressions import ExprChecker, Scope, pos_of
+from tockbmc.model.scope import Declaration, FileScope, GlobalTable, qname_text
+
+T = TypeVar("T")
+
+BUILTIN_TYPES = {"int": INT, "nat": NAT, "real": REAL, "boolean": BOOLEAN, "string": STRING}
+
+UNSUPPORTED_TYPES = {
+    "set_type": "set types",
+    "seq_type": "sequence types",
+    "vector_type": "vectors and matrices",
+    "matrix_type": "vectors and matrices",
+    "function_type": "function types (lambda)",
+    "relation_type": "relation types (toolkits)",
+    "product_type": "tuples (product types)",
+    "any_type": "generic types ('?T')",
+}
+
+UNSUPPORTED_DECLARATIONS = {
+    "general_controller": "general controllers ('generalcontroller')",
+    "ann_controller": "neural network controllers ('anncontroller')",
+    "general_operation": "general operations ('generaloperation')",
+}
+
+TOOLKITS = {"relation_toolkit", "sequence_toolkit", "set_toolkit", "function_toolkit", "collection_toolkit",
+            "arith_toolkit", "number_toolkit", "core"}
+
+_CSP_DEFINITION = re.compile(r"^[ \t]*([A-Za-z_][A-Za-z0-9_']*)[ \t]*(\([^)\n]*\))?[ \t]*=(?!=)", re.M)
+
+
+class _Cycle(Exception):
+    pass
+
+
+def children(tree: Tree, data: str) -> list[Tree]:
+    return [c for c in tree.children if isinstance(c, Tree) and c.data == data]
+
+
+def name_of(tree: Tree) -> Token:
+    """The first token child of a declaration tree: its name."""
+    for c in tree.children:
+        if isinstance(c, Token) and c.type == "ID":
+            return c
+    raise ValueError(f"{tree.data} has no name")
+
+
+class Resolver:
+    """Resolves all the parsed files of one project."""
+
+    def __init__(self, files: list[tuple[str, str, Tree]]):
+        self.files = files  # (path, kind, tree)
+        self.table = GlobalTable()
+        self.diagnostics: list[Diagnostic] = []
+        self._memo: dict[tuple[str, str], object] = {}
+        self._in_progress: set[tuple[str, str]] = set()
+
+    # ----------------------------------------------------------------- reporting
+
+    def report(self, pos: Pos, message: str, severity: str = "error") -> None:
+        self.diagnostics.append(Diagnostic(pos, message, severity))
+
+    def error(self, path: str, node: Tree | Token, message: str) -> None:
+        self.report(pos_of(path, node), message)
+
+    def memo(self, kind: str, qname: str, build: Callable[[], T], path: str, node: Tree | Token) -> T | None:
+        key = (kind, qname)
+        if key in self._memo:
+            return self._memo[key]  # type: ignore[return-value]
+        if key in self._in_progress:
+            self.error(path, node, f"'{qname}' is defined in terms of itself")
+            return None
+        self._in_progress.add(key)
+        try:
+            value = build()
+        finally:
+            self._in_progress.discard(key)
+        self._memo[key] = value
+        return value
+
+    # ----------------------------------------------------------------- phase 1: declare
+
+    def declare(self) -> None:
+        for path, kind, tree in self.files:
+            scope = FileScope(path, None)
+            for item in tree.children:
+                if item.data == "package_decl":
+                    scope.package = qname_text(item.children[0])
+                elif item.data == "import_decl":
+                    target = qname_text(item.children[0])
+                    if len(item.children) > 1:
+                        scope.wildcard_imports.append(target)
+                    else:
+                        scope.exact_imports.append(target)
+            self._scopes[path] = scope
+            if kind != "rct":
+                continue
+            for item in tree.children:
+                if item.data in ("package_decl", "import_decl", "diagram"):
+                    continue
+                token = name_of(item)
+                decl = Declaration(item.data, scope.qualify(str(token)), item, scope)
+                earlier = self.table.add(decl)
+                if earlier is not None:
+                    e_pos = pos_of(earlier.file.path, name_of(earlier.tree))
+                    self.error(path, token, f"'{decl.qname}' is already declared at {e_pos}")
+        # Packages must exist for imports to make sense.
+        # RoboTool ignores an import it cannot resolve; say so, but load.
+        packages = {s.package for s in self._scopes.values() if s.package}
+        for path, _, tree in self.files:
+            for item in children(tree, "import_decl"):
+                target = qname_text(item.children[0])
+                if target.split("::")[0] in TOOLKITS:
+                    self.error(path, item.children[0], f"unsupported: toolkits ('{target}')")
+                    self._scopes[path].toolkit = True
+                elif len(item.children) > 1 and not any(p == target or p.startswith(target + "::") for p in packages):
+                    self.report(pos_of(path, item.children[0]),
+                                f"import of unknown package '{target}' is ignored{suggestion(target, packages)}",
+                                "warning")
+
+    _scopes: dict[str, FileScope]
+
+    # ----------------------------------------------------------------- types
+
+    def type_of(self, scope: FileScope, node: Tree) -> ast.Type:
+        """The type a type expression denotes."""
+        if node.data in UNSUPPORTED_TYPES:
+            self.error(scope.path, node, f"unsupported: {UNSUPPORTED_TYPES[node.data]}")
+            return ERROR
+        if node.data != "named_type":  # parenthesised types are inlined by the grammar
+            self.error(scope.path, node, f"unsupported: type '{node.data}'")
+            return ERROR
+        name = qname_text(node.children[0])
+        if name in BUILTIN_TYPES:
+            return BUILTIN_TYPES[name]
+        decl = self.table.lookup(scope, name, ("primitive_type", "record_type", "enumeration"))
+        if decl is None:
+            known = list(BUILTIN_TYPES) + self.table.names(("primitive_type", "record_type", "enumeration"))
+            self.error(scope.path, node, f"unknown type '{name}'{suggestion(name, known)}")
+            return ERROR
+        return self.type_decl(decl) or ERROR
+
+    def type_decl(self, decl: Declaration) -> ast.Type | None:
+        def build() -> ast.Type:
+            tree, scope = decl.tree, decl.file
+            if decl.kind == "primitive_type":
+                return ast.GivenType(decl.qname)
+            if decl.kind == "enumeration":
+                literals = []
+                for lit in tree.children[1:]:
+                    token = lit.children[0]
+                    if len(lit.children) > 1:
+                        self.error(scope.path, lit, "unsupported: enumeration literals with parameters")
+                    if str(token) in literals:
+                        self.error(scope.path, token, f"duplicate literal '{token}'")
+                    literals.append(str(token))
+                return ast.EnumType(decl.qname, tuple(literals))
+            fields = []
+            seen = set()
+            for f in tree.children[1:]:
+                fname = str(f.children[0])
+                if fname in seen:
+                    self.error(scope.path, f.children[0], f"duplicate field '{fname}'")
+                seen.add(fname)
+                fields.append(ast.RecordField(fname, self.type_of(scope, f.children[1])))
+            return ast.RecordType(decl.qname, tuple(fields))
+
+        return self.memo("type", decl.qname, build, decl.file.path, name_of(decl.tree))
+
+    # ----------------------------------------------------------------- global lookups for expressions
+
+    def global_resolver(self, scope: FileScope) -> Callable[[str, str], object | None]:
+        def resolve(name: str, kind: str) -> object | None:
+            if kind == "type":
+                decl = self.table.lookup(scope, name, ("primitive_type", "record_type", "enumeration"))
+                return self.type_decl(decl) if decl else None
+            if kind == "function":
+                decl = self.table.lookup(scope, name, ("function_def",))
+                return self.function(decl) if decl else None
+            if kind == "operation":
+                decl = self.table.lookup(scope, name, ("operation_def",))
+                return self.operation(decl) if decl else None
+            if kind == "enum_literal":
+                found = [t for t in self._visible_enums(scope) if name in t.literals]
+                return found[0] if len(found) == 1 else None
+            return None
+
+        return resolve
+
+    def _visible_enums(self, scope: FileScope) -> list[ast.EnumType]:
+        enums = []
+        for q, d in self.table.declarations.items():
+            if d.kind == "enumeration" and self.table.lookup(scope, q.rsplit("::", 1)[-1], ("enumeration",)) is d:
+                t = self.type_decl(d)
+                if isinstance(t, ast.EnumType):
+                    enums.append(t)
+        return enums
+
+    def global_names(self, kind: str) -> list[str]:
+        if kind == "function":
+            return self.table.names(("function_def",))
+        if kind == "operation":
+            return self.table.names(("operation_def",))
+        if kind == "record":
+            return self.table.names(("record_type",))
+        if kind == "enum_literal":
+            names = []
+            for q in self.table.names(("enumeration",)):
+                t = self.type_decl(self.table.declarations[q])
+                if isinstance(t, ast.EnumType):
+                    names += [f"{t.name}::{lit}" for lit in t.literals]
+            return names
+        return []
+
+    def checker(self, scope: FileScope, expr_scope: Scope) -> ExprChecker:
+        expr_scope.resolve_global = self.global_resolver(scope)
+        expr_scope.global_names = self.global_names
+        expr_scope.toolkit = scope.toolkit
+        return ExprChecker(expr_scope, self.report, lambda node: self.type_of(scope, node))
+
+    # ----------------------------------------------------------------- variables, events, operations
+
+    def variables(self, scope: FileScope, var_list: Tree, owner: str, checker: ExprChecker | None,
+                  kind: str = "local") -> list[ast.Variable]:
+        constant = str(var_list.children[0]) == "const"
+        result = []
+        for v in var_list.children[1:]:
+            name = v.children[0]
+            vtype = self.type_of(scope, v.children[1])
+            initial = None
+            if len(v.children) > 2:
+                if checker is None:
+                    checker = self.checker(scope, Scope(scope.path, owner))
+                initial = checker.expr(v.children[2])
+                checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'")
+            result.append(ast.Variable(str(name), vtype, constant, owner, pos_of(scope.path, name), initial, kind))
+        return result
+
+    def event(self, scope: FileScope, tree: Tree, owner: str) -> ast.Event:
+        broadcast = any(isinstance(c, Token) and c.type == "BROADCAST" for c in tree.children)
+        toks = [c for c in tree.children if isinstance(c, Token) and c.type == "ID"]
+        types = [c for c in tree.children if isinstance(c, Tree)]
+        etype = self.type_of(scope, types[0]) if types else None
+        if broadcast:
+            self.error(scope.path, tree, "unsupported: broadcast events ('_broadcast')")
+        return ast.Event(str(toks[0]), etype, owner, pos_of(scope.path, toks[0]), broadcast)
+
+    def parameters(self, scope: FileScope, tree: Tree | None, owner: str) -> tuple[ast.Variable, ...]:
+        if tree is None:
+            return ()
+        return tuple(ast.Variable(str(p.children[0]), self.type_of(scope, p.children[1]), True, owner,
+                                  pos_of(scope.path, p.children[0]), None, "parameter")
+                     for p in tree.children)
+
+    def op_sig(self, scope: FileScope, tree: Tree, owner: str) -> ast.OperationSig:
+        name = tree.children[0]
+        params = next((c for c in tree.children if isinstance(c, Tree) and c.data == "params"), None)
+        terminates = any(isinstance(c, Token) and c.type == "TERMINATES" for c in tree.children)
+        return ast.OperationSig(str(name), self.parameters(scope, params, f"{owner}::{name}"), owner,
+                                pos_of(scope.path, name), terminates)
+
+    # ----------------------------------------------------------------- interfaces
+
+    def interface_ref(self, scope: FileScope, node: Tree) -> ast.Interface | None:
+        name = qname_text(node)
+        decl = self.table.lookup(scope, name, ("interface",))
+        if decl is None:
+            self.error(scope.path, node, f"unknown interface '{name}'{suggestion(name, self.table.names(('interface',)))}")
+            return None
+        return self.interface(decl)
+
+    def interface(self, decl: Declaration) -> ast.Interface | None:
+        def build() -> ast.Interface:
+            scope, tree = decl.file, decl.tree
+            events, variables, operations, clocks = [], [], [], []
+            for item in tree.children[1:]:
+                if item.data == "event":
+                    events.append(self.event(scope, item, decl.qname))
+                elif item.data == "var_list":
+                    variables += self.variables(scope, item, decl.qname, None, "interface")
+                elif item.data == "op_sig":
+                    operations.append(self.op_sig(scope, item, decl.qname))
+                elif item.data == "clock":
+                    clocks.append(ast.Clock(str(item.children[0]), decl.qname, pos_of(scope.path, item.children[0])))
+            self._no_duplicates(scope.path, [*events, *variables, *operations, *clocks], "interface " + decl.qname)
+            return ast.Interface(decl.qname, tuple(events), tuple(variables), tuple(operations), tuple(clocks),
+                                 pos_of(scope.path, name_of(tree)))
+
+        return self.memo("interface", decl.qname, build, decl.file.path, name_of(decl.tree))
+
+    def _no_duplicates(self, path: str, items: Iterable, where: str) -> None:
+        seen: dict[str, ast.Pos] = {}
+        for item in items:
+            if item.name in seen:
+                self.report(item.pos, f"'{item.name}' is declared twice in {where} (first at {seen[item.name]})")
+            else:
+                seen[item.name] = item.pos
+
+    # ----------------------------------------------------------------- functions
+
+    def function(self, decl: Declaration) -> ast.Function | None:
+        def build() -> ast.Function:
+            scope, tree = decl.file, decl.tree
+            params_tree = next((c for c in tree.children if isinstance(c, Tree) and c.data == "params"), None)
+            params = self.parameters(scope, params_tree, decl.qname)
+            type_tree = next(c for c in tree.children if isinstance(c, Tree) and c.data not in ("params", "precondition", "postcondition"))
+            result = self.type_of(scope, type_tree)
+            expr_scope = Scope(scope.path, decl.qname, variables={p.name: p for p in params}, result_type=result)
+            checker = self.checker(scope, expr_scope)
+            pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
+            post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
+            definition = None
+            for cond in post:
+                if isinstance(cond, ast.Binary) and cond.op == "==":
+                    if isinstance(cond.left, ast.ResultRef):
+                        definition = cond.right
+                    elif isinstance(cond.right, ast.ResultRef):
+                        definition = cond.left
+            return ast.Function(decl.qname, params, result, pre, post, definition, pos_of(scope.path, name_of(tree)))
+
+        return self.memo("function", decl.qname, build, decl.file.path, name_of(decl.tree))
+
+    # ----------------------------------------------------------------- machines and operations
+
+    def machine(self, decl: Declaration) -> ast.StateMachine | None:
+        return self.memo("machine", decl.qname, lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.StateMachine),
+                         decl.file.path, name_of(decl.tree))
+
+    def operation(self, decl: Declaration) -> ast.OperationDef | None:
+        return self.memo("operation", decl.qname, lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.OperationDef),
+                         decl.file.path, name_of(decl.tree))
+
+    def behaviour(self, scope: FileScope, tree: Tree, qname: str, cls: type) -> ast.Behaviour:
+        """A state machine or defined operation: declarations, nodes, transitions."""
+        path = scope.path
+        variables: list[ast.Variable] = []
+        iface_vars: list[ast.Variable] = []
+        events: list[ast.Event] = []
+        clocks: list[ast.Clock] = []
+        operations: list[ast.OperationSig] = []
+        relations: dict[str, list[str]] = {"uses": [], "provides": [], "requires": []}
+        params: tuple[ast.Variable, ...] = ()
+        terminates = False
+        for item in tree.children:
+            if not isinstance(item, Tree):
+                continue
+            if item.data in relations:
+                iface = self.interface_ref(scope, item.children[0])
+                if iface is None:
+                    continue
+                relations[item.data].append(iface.qname)
+                events += iface.events
+                iface_vars += iface.variables
+                operations += iface.operations
+                clocks += iface.clocks
+            elif item.data == "event":
+                events.append(self.event(scope, item, qname))
+            elif item.data == "clock":
+                clocks.append(ast.Clock(str(item.children[0]), qname, pos_of(path, item.children[0])))
+            elif item.data == "params":
+                params = self.parameters(scope, item, qname)
+            elif item.data == "terminates":
+                terminates = True
+        expr_scope = Scope(path, qname)
+        expr_scope.variables.update({v.name: v for v in iface_vars})
+        expr_scope.variables.update({p.name: p for p in params})
+        checker = self.checker(scope, expr_scope)
+        for item in children(tree, "var_list"):
+            new = self.variables(scope, item, qname, checker)
+            variables += new
+            expr_scope.variables.update({v.name: v for v in new})
+        self._no_duplicates(path, [*variables, *params], qname)
+        self._no_duplicates(path, events, qname)
+        self._no_duplicates(path, clocks, qname)
+        self._no_duplicates(path, operations, qname)
+        for e in events:
+            if e.name in expr_scope.variables:
+                self.report(e.pos, f"'{e.name}' names both an event and a variable of {qname}")
+        expr_scope.events = {e.name: e for e in events}
+        expr_scope.clocks = {c.name: c for c in clocks}
+        expr_scope.operations = {o.name: o for o in operations}
+
+        nodes: list[ast.Node] = []
+        raw_nodes: list[tuple[Tree, str | None]] = []
+        self._collect_nodes(path, tree, None, nodes, raw_nodes)
+        by_path = {n.path: n for n in nodes}
+        for n in nodes:
+            expr_scope.states.setdefault(n.name, n.path)
+            expr_scope.states[n.path] = n.path
+        # Actions, now that every name is in scope.
+        final_nodes = []
+        for node, (ntree, _) in zip(nodes, raw_nodes):
+            actions = {}
+            for kind in ("entry", "during", "exit"):
+                for a in children(ntree, kind):
+                    if kind in actions:
+                        self.error(path, a, f"state '{node.name}' has more than one {kind} action")
+                    actions[kind] = checker.statement(a.children[0])
+            final_nodes.append(ast.Node(node.kind, node.name, node.path, node.parent, node.pos,
+                                        actions.get("entry"), actions.get("during"), actions.get("exit"),
+                                        node.children))
+        nodes = final_nodes
+        by_path = {n.path: n for n in nodes}
+        transitions = []
+        for ttree, container in self._collect_transitions(tree, None):
+            t = self.transition(scope, ttree, container, by_path, checker)
+            if t is not None:
+                transitions.append(t)
+        self._check_structure(path, qname, tree, nodes, transitions)
+        fields = dict(qname=qname, pos=pos_of(path, name_of(tree)), variables=tuple(variables),
+                      interface_variables=tuple(iface_vars), events=tuple(events), clocks=tuple(clocks),
+                      operations=tuple(operations), nodes=tuple(nodes), transitions=tuple(transitions),
+                      required_interfaces=tuple(relations["requires"]),
+                      provided_interfaces=tuple(relations["provides"]),
+                      used_interfaces=tuple(relations["uses"]))
+        if cls is ast.OperationDef:
+            return ast.OperationDef(**fields, parameters=params, terminates=terminates)
+        return ast.StateMachine(**fields)
+
+    def _collect_nodes(self, path: str, tree: Tree, parent: str | None, out: list[ast.Node],
+                       raw: list[tuple[Tree, str | None]]) -> list[str]:
+        names = []
+        for item in tree.children:
+            if not isinstance(item, Tree) or item.data not in ("state", "initial", "junction", "final", "probabilistic"):
+                continue
+            token = item.children[0]
+            npath = f"{parent}::{token}" if parent else str(token)
+            if str(token) in names:
+                self.error(path, token, f"'{token}' is declared twice in the same region")
+                continue
+            names.append(str(token))
+            if item.data == "probabilistic":
+                self.error(path, item, "unsupported: probabilistic junctions")
+            index = len(out)
+            out.append(ast.Node(item.data, str(token), npath, parent, pos_of(path, token)))
+            raw.append((item, parent))
+            if item.data == "state":
+                kids = self._collect_nodes(path, item, npath, out, raw)
+                node = out[index]
+                out[index] = ast.Node(node.kind, node.name, node.path, node.parent, node.pos,
+                                      children=tuple(f"{npath}::{k}" for k in kids))
+        return names
+
+    def _collect_transitions(self, tree: Tree, container: str | None) -> list[tuple[Tree, str | None]]:
+        result = []
+        for item in tree.children:
+            if not isinstance(item, Tree):
+                continue
+            if item.data == "transition":
+                result.append((item, container))
+            elif item.data == "state":
+                name = str(item.children[0])
+                result += self._collect_transitions(item, f"{container}::{name}" if container else name)
+        return result
+
+    def _node_ref(self, path: str, node: Tree, container: str | None, by_path: dict[str, ast.Node]) -> str | None:
+        """The node a transition names: a node of the region that declares it, or nested in it."""
+        name = qname_text(node)
+        prefix = f"{container}::" if container else ""
+        if prefix + name in by_path:
+            return prefix + name
+        matches = [p for p in by_path if p.startswith(prefix) and (p == name or p.endswith("::" + name))]
+        if len(matches) == 1:
+            return matches[0]
+        if len(matches) > 1:
+            self.error(path, node, f"'{name}' is ambiguous here: it may be {', '.join(sorted(matches))}")
+            return None
+        outside = [p for p in by_path if p == name or p.endswith("::" + name)]
+        if outside:
+            self.error(path, node, f"a transition declared in state '{container}' must stay inside it, "
+                       f"but '{name}' is outside")
+            return None
+        known = [p.rsplit("::", 1)[-1] for p in by_path]
+        self.error(path, node, f"unknown state or junction '{name}'{suggestion(name, known)}")
+        return None
+
+    def transition(self, scope: FileScope, tree: Tree, container: str | None, by_path: dict[str, ast.Node],
+                   checker: ExprChecker) -> ast.Transition | None:
+        path = scope.path
+        name = tree.children[0]
+        source = self._node_ref(path, tree.children[1], container, by_path)
+        target = self._node_ref(path, tree.children[2], container, by_path)
+        trigger = None
+        resets: list[ast.Clock] = []
+        deadline = condition = action = None
+        is_else = False
+        for item in tree.children[3:]:
+            if item.data.startswith("comm_"):
+                event, kind, var, value = checker.communication(item)
+                if event is not None:
+                    trigger = ast.Trigger(event, kind, var, value)
+            elif item.data == "probability":
+                self.error(path, item, "unsupported: probabilistic transitions")
+            elif item.data == "clock_reset":
+                clock = checker.clock(item.children[0])
+                if clock is not None:
+                    resets.append(clock)
+            elif item.data == "deadline":
+                deadline = checker.expr(item.children[0])
+                checker.expect(item.children[0], deadline, NAT, "a deadline")
+            elif item.data == "condition":
+                condition = checker.condition(item.children[0])
+            elif item.data == "else_condition":
+                is_else = True
+            elif item.data == "action":
+                action = checker.statement(item.children[0])
+        if source is None or target is None:
+            return None
+        src, tgt = by_path[source], by_path[target]
+        if src.kind == "final":
+            self.error(path, tree.children[1], f"a transition cannot leave final state '{src.name}'")
+        if tgt.kind == "initial":
+            self.error(path, tree.children[2], f"a transition cannot enter initial junction '{tgt.name}'")
+        if src.kind == "initial" and trigger is not None:
+            self.error(path, tree, f"the transition from initial junction '{src.name}' cannot have a trigger")
+        return ast.Transition(str(name), source, target, pos_of(path, name), container, trigger, tuple(resets),
+                              deadline, condition, is_else, action)
+
+    def _check_structure(self, path: str, qname: str, tree: Tree, nodes: list[ast.Node],
+                         transitions: list[ast.Transition]) -> None:
+        regions: dict[str | None, list[ast.Node]] = {}
+        for n in nodes:
+            regions.setdefault(n.parent, []).append(n)
+        seen: set[tuple[str | None, str]] = set()
+        for t in transitions:
+            if (t.container, t.name) in seen:
+                where = f"state '{t.container}'" if t.container else qname
+                self.report(t.pos, f"transition '{t.name}' is declared twice in {where}")
+            seen.add((t.container, t.name))
+        for region, members in regions.items():
+            where = f"state '{region}'" if region else qname
+            initials = [n for n in members if n.kind == "initial"]
+            if not initials:
+                pos = next(n.pos for n in nodes if n.path == region) if region else pos_of(path, name_of(tree))
+                self.report(pos, f"{where} has no initial junction")
+            for extra in initials[1:]:
+                self.report(extra.pos, f"{where} has more than one initial junction")
+            for init in initials:
+                out = [t for t in transitions if t.source == init.path]
+                if len(out) != 1:
+                    self.report(init.pos, f"initial junction '{init.name}' must have exactly one transition, "
+                                f"but has {len(out)}")
+                for t in out:
+                    if self._parent(t.target) != region:
+                        self.report(t.pos, f"the initial transition of {where} must stay in its region")
+
+    @staticmethod
+    def _parent(node_path: str) -> str | None:
+        return node_path.rpartition("::")[0] or None
+
+    # ----------------------------------------------------------------- controllers
+
+    def controller(self, decl: Declaration) -> ast.Controller | None:
+        return self.memo("controller", decl.qname, lambda: self._controller(decl), decl.file.path, name_of(decl.tree))
+
+    def _controller(self, decl: Declaration) -> ast.Controller:
+        scope, tree, qname = decl.file, decl.tree, decl.qname
+        path = scope.path
+        events: list[ast.Event] = []
+        variables: list[ast.Variable] = []
+        machines: list[ast.MachineInstance] = []
+        operations: list[ast.OperationInstance] = []
+        relations: dict[str, list[str]] = {"uses": [], "provides": [], "requires": []}
+        for item in tree.children[1:]:
+            if item.data in relations:
+                iface = self.interface_ref(scope, item.children[0])
+                if iface is not None:
+                    relations[item.data].append(iface.qname)
+                    if item.data == "uses":
+                        events += iface.events
+            elif item.data == "event":
+                events.append(self.event(scope, item, qname))
+            elif item.data == "var_list":
+                variables += self.variables(scope, item, qname, None)
+            elif item.data == "clock":
+                self.error(path, item, "unsupported: clocks declared in a controller")
+            elif item.data == "stm_def":
+                inner = Declaration("stm_def", f"{qname}::{name_of(item)}", item, scope)
+                m = self.machine(inner)
+                if m is not None:
+                    machines.append(ast.MachineInstance(m.name, m, m.pos))
+            elif item.data == "stm_ref":
+                ref_name, target = item.children
+                m_decl = self.table.lookup(scope, qname_text(target), ("stm_def",))
+                if m_decl is None:
+                    t = qname_text(target)
+                    self.error(path, target, f"unknown state machine '{t}'{suggestion(t, self.table.names(('stm_def',)))}")
+                    continue
+                m = self.machine(m_decl)
+                if m is not None:
+                    machines.append(ast.MachineInstance(str(ref_name), m, pos_of(path, ref_name)))
+            elif item.data == "operation_def":
+                inner = Declaration("operation_def", f"{qname}::{name_of(item)}", item, scope)
+                op = self.operation(inner)
+                if op is not None:
+                    operations.append(ast.OperationInstance(op.name, op, op.pos))
+            elif item.data == "operation_ref":
+                ref_name, target = item.children
+                o_decl = self.table.lookup(scope, qname_text(target), ("operation_def",))
+                if o_decl is None:
+                    t = qname_text(target)
+                    self.error(path, target, f"unknown operation '{t}'{suggestion(t, self.table.names(('operation_def',)))}")
+                    continue
+                op = self.operation(o_decl)
+                if op is not None:
+                    operations.append(ast.OperationInstance(str(ref_name), op, pos_of(path, ref_name)))
+            elif item.data in UNSUPPORTED_DECLARATIONS:
+                self.error(path, item, f"unsupported: {UNSUPPORTED_DECLARATIONS[item.data]}")
+        self._no_duplicates(path, events, qname)
+        self._no_duplicates(path, machines, qname)
+        ends: dict[str, object] = {decl.qname.rsplit("::", 1)[-1]: "self"}
+        for m in machines:
+            ends[m.name] = m.machine
+        own_events = {e.name: e for e in events}
+        connections = [c for c in (self.connection(path, item, ends, own_events) for item in children(tree, "connection")) if c]
+        self._check_operation_directions(qname, connections, operations)
+        return ast.Controller(qname, pos_of(path, name_of(tree)), tuple(events), tuple(variables), tuple(machines),
+                              tuple(connections), tuple(operations), tuple(relations["requires"]),
+                              tuple(relations["provides"]), tuple(relations["uses"]))
+
+    def _check_operation_directions(self, qname: str, connections: list[ast.Connection],
+                                    operations: list[ast.OperationInstance]) -> None:
+        """An operation's events are the controller's: it must use them the same way round."""
+        me = qname.rsplit("::", 1)[-1]
+        inputs = {c.source_event.name for c in connections if c.source == me}
+        outputs = {c.target_event.name for c in connections if c.target == me}
+        for inst in operations:
+            sends, receives = event_directions(inst.operation)
+            for e in inst.operation.events:
+                if e.name in sends and e.name in inputs - outputs:
+                    self.report(e.pos, f"operation '{inst.operation.name}' sends '{e.name}', but controller "
+                                f"'{me}' only receives it")
+                elif e.name in receives and e.name in outputs - inputs:
+                    self.report(e.pos, f"operation '{inst.operation.name}' receives '{e.name}', but controller "
+                                f"'{me}' only sends it")
+
+    def connection(self, path: str, tree: Tree, ends: dict[str, object], own_events: dict[str, ast.Event]) -> ast.Connection | None:
+        src_node, src_event, tgt_node, tgt_event = tree.children[:4]
+        is_async = bool(children(tree, "async_mark"))
+        mult = bool(children(tree, "mult_mark"))
+        resolved = []
+        for end_node, event_token, role in ((src_node, src_event, "source"), (tgt_node, tgt_event, "target")):
+            end_name = qname_text(end_node)
+            element = ends.get(end_name)
+            if element is None:
+                self.error(path, end_node, f"unknown connection {role} '{end_name}'{suggestion(end_name, list(ends))}")
+                resolved.append(None)
+                continue
+            element_events = own_events if element == "self" else {e.name: e for e in _events_of(element)}
+            event = element_events.get(str(event_token))
+            if event is None:
+                self.error(path, event_token, f"'{end_name}' has no event '{event_token}'"
+                           f"{suggestion(str(event_token), list(element_events))}")
+                resolved.append(None)
+                continue
+            resolved.append((end_name, element, event))
+        if None in resolved:
+            return None
+        (s_name, s_elem, s_ev), (t_name, t_elem, t_ev) = resolved  # type: ignore[misc]
+        if s_ev.type != t_ev.type and not (isinstance(s_ev.type, ast.ErrorType) or isinstance(t_ev.type, ast.ErrorType)):
+            self.error(path, tree, f"type error: connection joins '{s_name}.{s_ev.name}' "
+                       f"({s_ev.type or 'no value'}) to '{t_name}.{t_ev.name}' ({t_ev.type or 'no value'})")
+        if isinstance(s_elem, ast.StateMachine) and not mult:
+            sends, receives = event_directions(s_elem)
+            if s_ev.name in receives and s_ev.name not in sends:
+                self.error(path, src_event, f"'{s_name}' only receives '{s_ev.name}', so it cannot be the source "
+                           f"of this connection")
+        if isinstance(t_elem, ast.StateMachine) and not mult:
+            sends, receives = event_directions(t_elem)
+            if t_ev.name in sends and t_ev.name not in receives:
+                self.error(path, tgt_event, f"'{t_name}' only sends '{t_ev.name}', so it cannot be the target "
+                           f"of this connection")
+        return ast.Connection(s_name, s_ev, t_name, t_ev, is_async, mult, pos_of(path, tree))
+
+    # ----------------------------------------------------------------- platforms and modules
+
+    def platform(self, scope: FileScope, tree: Tree, qname: str) -> ast.RoboticPlatform:
+        path = scope.path
+        events: list[ast.Event] = []
+        variables: list[ast.Variable] = []
+        operations: list[ast.OperationSig] = []
+        relations: dict[str, list[str]] = {"uses": [], "provides": [], "requires": []}
+        for item in tree.children[1:]:
+            if item.data in relations:
+                iface = self.interface_ref(scope, item.children[0])
+                if iface is None:
+                    continue
+                relations[item.data].append(iface.qname)
+                events += iface.events
+                variables += iface.variables
+                operations += iface.operations
+            elif item.data == "event":
+                events.append(self.event(scope, item, qname))
+            elif item.data == "var_list":
+                variables += self.variables(scope, item, qname, None)
+            elif item.data == "op_sig":
+                operations.append(self.op_sig(scope, item, qname))
+        self._no_duplicates(path, events, qname)
+        return ast.RoboticPlatform(qname, pos_of(path, name_of(tree)), tuple(events), tuple(variables),
+                                   tuple(operations), tuple(relations["provides"]), tuple(relations["uses"]),
+                                   tuple(relations["requires"]))
+
+    def platform_decl(self, decl: Declaration) -> ast.RoboticPlatform | None:
+        return self.memo("platform", decl.qname, lambda: self.platform(decl.file, decl.tree, decl.qname),
+                         decl.file.path, name_of(decl.tree))
+
+    def module(self, decl: Declaration) -> ast.Module | None:
+        return self.memo("module", decl.qname, lambda: self._module(decl), decl.file.path, name_of(decl.tree))
+
+    def _module(self, decl: Declaration) -> ast.Module:
+        scope, tree, qname = decl.file, decl.tree, decl.qname
+        path = scope.path
+        platform: ast.RoboticPlatform | None = None
+        platform_name: str | None = None
+        controllers: list[ast.ControllerInstance] = []
+        for item in tree.children[1:]:
+            if item.data == "platform_def":
+                if platform is not None:
+                    self.error(path, item, "a module has one robotic platform")
+                inner = Declaration("platform_def", f"{qname}::{name_of(item)}", item, scope)
+                platform = self.platform_decl(inner)
+                platform_name = str(name_of(item))
+            elif item.data == "platform_ref":
+                if platform is not None:
+                    self.error(path, item, "a module has one robotic platform")
+                ref_name, target = item.children
+                p_decl = self.table.lookup(scope, qname_text(target), ("platform_def",))
+                if p_decl is None:
+                    t = qname_text(target)
+                    self.error(path, target, f"unknown robotic platform '{t}'{suggestion(t, self.table.names(('platform_def',)))}")
+                    continue
+                platform = self.platform_decl(p_decl)
+                platform_name = str(ref_name)
+            elif item.data == "controller_def":
+                inner = Declaration("controller_def", f"{qname}::{name_of(item)}", item, scope)
+                c = self.controller(inner)
+                if c is not None:
+                    controllers.append(ast.ControllerInstance(c.name, c, c.pos))
+            elif item.data == "controller_ref":
+                ref_name, target = item.children
+                c_decl = self.table.lookup(scope, qname_text(target), ("controller_def",))
+                if c_decl is None:
+                    t = qname_text(target)
+                    self.error(path, target, f"unknown controller '{t}'{suggestion(t, self.table.names(('controller_def',)))}")
+                    continue
+                c = self.controller(c_decl)
+                if c is not None:
+                    controllers.append(ast.ControllerInstance(str(ref_name), c, pos_of(path, ref_name)))
+            elif item.data in ("stm_def", "stm_ref"):
+                self.error(path, item, "unsupported: state machines placed directly in a module (put them in a controller)")
+            elif item.data in UNSUPPORTED_DECLARATIONS:
+                self.error(path, item, f"unsupported: {UNSUPPORTED_DECLARATIONS[item.data]}")
+        if platform is None:
+            self.error(path, name_of(tree), f"module '{qname}' has no robotic platform")
+        ends: dict[str, object] = {c.name: c.controller for c in controllers}
+        if platform is not None and platform_name is not None:
+            ends[platform_name] = platform
+        connections = [c for c in (self.connection(path, item, ends, {}) for item in children(tree, "connection")) if c]
+        return ast.Module(qname, pos_of(path, name_of(tree)), platform, platform_name, tuple(controllers),
+                          tuple(connections))
+
+    # ----------------------------------------------------------------- assertions
+
+    def assertions(self, path: str, tree: Tree, blocks: list[ast.CspBlock],
+                   process_names: set[str]) -> list[ast.Assertion]:
+        scope = self._scopes[path]
+        result = []
+        for item in tree.children:
+            if item.data == "type_instantiation":
+                self.error(path, item, "unsupported: type instantiations ('instantiate')")
+            elif item.data == "assertion":
+                a = self.assertion(scope, item, process_names)
+                if a is not None:
+                    result.append(a)
+        return result
+
+    def csp_block(self, path: str, tree: Tree, text: str) -> ast.CspBlock:
+        timing = None
+        associated: tuple[str, ...] = ()
+        code = ""
+        name = ""
+        for c in tree.children:
+            if isinstance(c, Tree) and c.data in ("timed", "untimed"):
+                timing = c.data
+            elif isinstance(c, Tree) and c.data == "associated":
+                associated = tuple(qname_text(q) for q in c.children)
+            elif isinstance(c, Token) and c.type == "CSP_CODE":
+                code = str(c)[len("csp-begin"):-len("csp-end")]
+            elif isinstance(c, Token) and c.type == "ID":
+                name = str(c)
+        defines = tuple(dict.fromkeys(m.group(1) for m in _CSP_DEFINITION.finditer(code)))
+        return ast.CspBlock(name, timing, associated, code, pos_of(path, tree), defines)
+
+    def element_names(self) -> list[str]:
+        return self.table.names(("stm_def", "controller_def", "module_def", "operation_def"))
+
+    def resolve_element(self, scope: FileScope, name: str) -> object | None:
+        """A machine, controller, module or operation named in an assertion."""
+        decl = self.table.lookup(scope, name, ("stm_def", "controller_def", "module_def", "operation_def"))
+        if decl is not None:
+            return {"stm_def": self.machine, "controller_def": self.controller, "module_def": self.module,
+                    "operation_def": self.operation}[decl.kind](decl)
+        # An element inside another: `Controller::stm`, `Module::ctrl`.
+        head, _, last = name.rpartition("::")
+        if head:
+            outer = self.resolve_element(scope, head)
+            if isinstance(outer, ast.Controller):
+                for m in outer.machines:
+                    if m.name == last:
+                        return m.machine
+                for o in outer.operations:
+                    if o.name == last:
+                        return o.operation
+            if isinstance(outer, ast.Module):
+                for c in outer.controllers:
+                    if c.name == last:
+                        return c.controller
+        return None
+
+    def assertion(self, scope: FileScope, tree: Tree, process_names: set[str]) -> ast.Assertion | None:
+        path = scope.path
+        timing = None
+        body = model = settings_tree = None
+        name_token = None
+        for c in tree.children:
+            if isinstance(c, Token) and c.type == "ID":
+                name_token = c
+            elif isinstance(c, Tree):
+                if c.data in ("timed", "untimed"):
+                    timing = c.data
+                elif c.data == "model_clause":
+                    model = c.children[0].data.replace("_model", "").replace("_", " ")
+                elif c.data == "with_clause":
+                    settings_tree = c
+                else:
+                    body = c
+        assert name_token is not None and body is not None
+        negated = any(isinstance(c, Token) and c.type == "NOT" for c in body.children)
+        names = [c for c in body.children if isinstance(c, Tree) and c.data == "qname"]
+        kind = {
+            "reachable_assertion": "reachable", "refines_assertion": "refines", "equals_assertion": "equals",
+            "not_refines_assertion": "refines", "not_equal_assertion": "equals",
+            "terminates_assertion": "terminates", "not_terminates_assertion": "terminates",
+            "clock_assertion": "clock-initialised",
+        }.get(body.data)
+        if body.data == "unary_assertion":
+            prop = next(c for c in body.children if isinstance(c, Tree) and c.data == "unary_property")
+            kind = str(prop.children[0])
+        if model == "tick tock":
+            model = "tick-tock"
+        text = self._source_text(path, tree)
+        subject_node = names[0]
+        subject = qname_text(subject_node)
+        other = qname_text(names[1]) if len(names) > 1 else None
+        subject_is_process = other_is_process = False
+        pos = pos_of(path, name_token)
+        if kind == "reachable":
+            # `S is reachable in P`: P is the element, S one of its states.
+            element = self.resolve_element(scope, other or "")
+            if element is None:
+                self._unknown_process(path, names[1], other or "", process_names)
+            else:
+                nodes = [n for b in _behaviours_of(element) for n in b.nodes]
+                if not any(subject == n.path or subject.endswith("::" + n.path) for n in nodes):
+                    known = [n.path for n in nodes]
+                    self.error(path, subject_node, f"'{other}' has no state '{subject}'{suggestion(subject, known)}")
+        elif kind == "clock-initialised":
+            pass  # reported as unsupported by the checker, with the rest of the untimed forms
+        else:
+            for node, nm in ((subject_node, subject), (names[1] if other else None, other)):
+                if node is None or nm is None:
+                    continue
+                if self.resolve_element(scope, nm) is None:
+                    if nm in process_names:
+                        if nm == subject:
+                            subject_is_process = True
+                        else:
+                            other_is_process = True
+                    else:
+                        self._unknown_process(path, node, nm, process_names)
+        settings = self._settings(scope, settings_tree) if settings_tree is not None else ()
+        return ast.Assertion(str(name_token), kind or body.data, subject, negated, pos, text, timing, other, model,
+                             settings, subject_is_process, other_is_process)
+
+    def _unknown_process(self, path: str, node: Tree, name: str, process_names: set[str]) -> None:
+        known = self.element_names() + sorted(process_names)
+        self.error(path, node, f"unknown machine, controller, module or process '{name}'{suggestion(name, known)}")
+
+    def _settings(self, scope: FileScope, tree: Tree) -> tuple[ast.ConstantSetting, ...]:
+        result = []
+        for s in tree.children:
+            const_token, element_node, _, value_node = s.children
+            element_name = qname_text(element_node)
+            element = self.resolve_element(scope, element_name)
+            checker = self.checker(scope, Scope(scope.path, "assertion"))
+            value = checker.expr(value_node)
+            if element is None:
+                self.error(scope.path, element_node, f"unknown machine, controller or module '{element_name}'"
+                           f"{suggestion(element_name, self.element_names())}")
+                continue
+            if s.data == "parameter_setting":
+                what = "parameter"
+                constants = {p.name: p for p in getattr(element, "parameters", ())}
+            else:
+                what = "constant"
+                constants = self._constants_of(element)
+            const = constants.get(str(const_token))
+            if const is None:
+                self.error(scope.path, const_token, f"'{element_name}' has no {what} '{const_token}'"
+                           f"{suggestion(str(const_token), list(constants))}")
+                continue
+            checker.expect(value_node, value, const.type, f"the value of constant '{const_token}'")
+            result.append(ast.ConstantSetting(str(const_token), element_name, value, pos_of(scope.path, s), what))
+        return tuple(result)
+
+    def _constants_of(self, element: object) -> dict[str, ast.Variable]:
+        """Constants an assertion may set on an element: its own, its interfaces', its parts'."""
+        consts: dict[str, ast.Variable] = {}
+
+        def add(variables: Iterable[ast.Variable]) -> None:
+            consts.update({v.name: v for v in variables if v.constant})
+
+        def interfaces(qnames: Iterable[str]) -> None:
+            for q in qnames:
+                iface = self._memo.get(("interface", q))
+                if isinstance(iface, ast.Interface):
+                    add(iface.variables)
+
+        for b in _behaviours_of(element):
+            add(b.variables)
+            add(b.interface_variables)
+        controllers = [element] if isinstance(element, ast.Controller) else (
+            [c.controller for c in element.controllers] if isinstance(element, ast.Module) else [])
+        for c in controllers:
+            add(c.variables)
+            interfaces(c.required_interfaces + c.provided_interfaces + c.used_interfaces)
+        if isinstance(element, ast.Module) and element.platform is not None:
+            add(element.platform.variables)
+        return consts
+
+    def _source_text(self, path: str, tree: Tree) -> str:
+        text = self._texts[path]
+        meta = tree.meta
+        lines = text.split("\n")[meta.line - 1: meta.end_line]
+        if not lines:
+            return ""
+        if len(lines) == 1:
+            return lines[0][meta.column - 1: meta.end_column - 1].strip()
+        lines[0] = lines[0][meta.column - 1:]
+        lines[-1] = lines[-1][: meta.end_column - 1]
+        return " ".join(line.strip() for line in lines).strip()
+
+    _texts: dict[str, str]
+
+    # ----------------------------------------------------------------- everything
+
+    def resolve(self, root: str, texts: dict[str, str]) -> ast.Project:
+        self._scopes = {}
+        self._texts = texts
+        self.declare()
+        types, interfaces, functions, machines, operations, controllers, platforms, modules = ([] for _ in range(8))
+        builders = {
+            "primitive_type": (self.type_decl, types), "record_type": (self.type_decl, types),
+            "enumeration": (self.type_decl, types), "interface": (self.interface, interfaces),
+            "function_def": (self.function, functions), "stm_def": (self.machine, machines),
+            "operation_def": (self.operation, operations), "controller_def": (self.controller, controllers),
+            "platform_def": (self.platform_decl, platforms), "module_def": (self.module, modules),
+        }
+        for decl in list(self.table.declarations.values()):
+            if decl.kind in UNSUPPORTED_DECLARATIONS:
+                self.error(decl.file.path, decl.tree, f"unsupported: {UNSUPPORTED_DECLARATIONS[decl.kind]}")
+                continue
+            build, sink = builders[decl.kind]
+            value = build(decl)
+            if value is not None:
+                sink.append(value)
+        blocks: list[ast.CspBlock] = []
+        for path, kind, tree in self.files:
+            if kind == "assertions":
+                blocks += [self.csp_block(path, t, texts[path]) for t in children(tree, "csp_process")]
+        process_names = {n for b in blocks for n in (b.name, *b.defines)}
+        assertions: list[ast.Assertion] = []
+        for path, kind, tree in self.files:
+            if kind == "assertions":
+                assertions += self.assertions(path, tree, blocks, process_names)
+        self._no_duplicates_assertions(assertions)
+        return ast.Project(root, tuple(p for p, _, _ in self.files), tuple(types), tuple(interfaces), tuple(functions),
+                           tuple(machines), tuple(operations), tuple(controllers), tuple(platforms), tuple(modules),
+                           tuple(blocks), tuple(assertions), dict(texts))
+
+    def _no_duplicates_assertions(self, assertions: list[ast.Assertion]) -> None:
+        seen: dict[str, ast.Pos] = {}
+        for a in assertions:
+            if a.name in seen:
+                self.report(a.pos, f"assertion '{a.name}' is declared twice (first at {seen[a.name]})")
+            else:
+                seen[a.name] = a.pos
+
+
+def _events_of(element: object) -> tuple[ast.Event, ...]:
+    if isinstance(element, (ast.Behaviour, ast.Controller, ast.RoboticPlatform)):
+        return element.events
+    return ()
+
+
+def _behaviours_of(element: object) -> list[ast.Behaviour]:
+    """The machines and operations an element contains (itself, for a machine)."""
+    if isinstance(element, ast.Behaviour):
+        return [element]
+    if isinstance(element, ast.Controller):
+        return [m.machine for m in element.machines] + [o.operation for o in element.operations]
+    if isinstance(element, ast.Module):
+        return [b for c in element.controllers for b in _behaviours_of(c.controller)]
+    return []
+
+
+def event_directions(behaviour: ast.Behaviour) -> tuple[set[str], set[str]]:
+    """(events the behaviour sends, events it receives), from its actions and triggers."""
+    sends: set[str] = set()
+    receives: set[str] = set()
+
+    def walk(s: ast.Stmt | None) -> None:
+        stack = [s]
+        while stack:
+            st = stack.pop()
+            if st is None:
+                continue
+            if isinstance(st, ast.Send):
+                sends.add(st.event.name)
+            elif isinstance(st, ast.Receive):
+                receives.add(st.event.name)
+            elif isinstance(st, ast.Seq):
+                stack.extend(st.statements)
+            elif isinstance(st, ast.If):
+                stack.extend((st.then, st.otherwise))
+            elif isinstance(st, ast.Deadline):
+                stack.append(st.statement)
+
+    for n in behaviour.nodes:
+        for a in (n.entry, n.during, n.exit):
+            walk(a)
+    for t in behaviour.transitions:
+        if t.trigger is not None:
+            (sends if t.trigger.kind == "output" else receives).add(t.trigger.event.name)
+        walk(t.action)
+    return sends, receives

@@ -1,0 +1,1 @@
+"""properties layer: built in a later issue; see DEVELOPERS.md."""

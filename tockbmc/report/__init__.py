@@ -1,0 +1,1 @@
+"""Presenting results: diagnostics, model structure, and (later) traces."""
