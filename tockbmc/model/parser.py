@@ -46,7 +46,12 @@ def parse(text: str, path: str, kind: str) -> tuple[Tree | None, list[Diagnostic
 def _describe(token_type: str, value: str) -> str:
     if token_type == "$END":
         return "end of file"
-    return f"'{value}'"
+    if token_type == "CSP_CODE":
+        return "'csp-begin … csp-end' block"
+    first_line = value.split("\n", 1)[0]
+    if len(first_line) > 30 or first_line != value:
+        first_line = first_line[:30] + "…"
+    return f"'{first_line}'"
 
 
 def _syntax_error(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
