@@ -15,13 +15,11 @@ from lark import Lark, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInpu
 from tockbmc.model.ast import Pos
 from tockbmc.model.diagnostics import Diagnostic
 
-# Readable names for the grammar's terminals, used in syntax error messages.
+# Readable names for the grammar's pattern terminals, used in syntax error messages;
+# string terminals are shown as their text.
 _TERMINAL_NAMES = {
-    "LBRACE": "'{'", "RBRACE": "'}'", "LPAR": "'('", "RPAR": "')'", "LSQB": "'['",
-    "RSQB": "']'", "COLON": "':'", "SEMICOLON": "';'", "COMMA": "','", "DOT": "'.'",
-    "EQUAL": "'='", "ID": "a name", "INT": "a number", "FLOAT": "a number",
-    "CSP_CODE": "'csp-begin … csp-end'", "$END": "end of file", "QMARK": "'?'",
-    "BANG": "'!'", "HASH": "'#'", "__ANON_0": "'::'",
+    "ID": "a name", "INT": "a number", "FLOAT": "a number", "BOOLEAN": "'true'", "STRING": "a string",
+    "CSP_CODE": "'csp-begin … csp-end'", "$END": "end of file",
 }
 
 
@@ -80,15 +78,20 @@ def _end_position(text: str) -> tuple[int, int]:
 
 
 def _expected(terminals: set[str]) -> str:
-    names = []
-    for t in sorted(terminals):
+    names = set()
+    for t in terminals:
         if t in _TERMINAL_NAMES:
-            names.append(_TERMINAL_NAMES[t])
-        elif t.isupper() and not t.startswith("__"):
-            names.append(f"'{t.lower().replace('_', '-')}'")
-    names = sorted(set(names))
-    if not names:
+            names.add(_TERMINAL_NAMES[t])
+            continue
+        try:
+            pattern = _parser().get_terminal(t).pattern
+        except KeyError:
+            continue
+        if pattern.type == "str":
+            names.add(f"'{pattern.value}'")
+    ordered = sorted(names)
+    if not ordered:
         return ""
-    if len(names) > 6:
-        return ", ".join(names[:6]) + ", …"
-    return ", ".join(names)
+    if len(ordered) > 8:
+        return ", ".join(ordered[:8]) + ", …"
+    return ", ".join(ordered)

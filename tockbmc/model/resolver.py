@@ -36,7 +36,6 @@ UNSUPPORTED_TYPES = {
 
 UNSUPPORTED_DECLARATIONS = {
     "general_controller": "general controllers ('generalcontroller')",
-    "ann_controller": "neural network controllers ('anncontroller')",
     "general_operation": "general operations ('generaloperation')",
 }
 
