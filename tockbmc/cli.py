@@ -4,13 +4,20 @@ from __future__ import annotations
 
 import json
 import sys
+from fractions import Fraction
 from typing import Callable, TypeVar
 
 import click
 from rich.console import Console
 
 from tockbmc import __version__
-from tockbmc.model import ModelError, Project, load
+from tockbmc.check import DEFAULT_BOUND
+from tockbmc.check import check as run_check
+from tockbmc.encodings.values import Range, Ranges
+from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.report.results import print_results
+from tockbmc.report.results import summary as summary_counts
+from tockbmc.report.results import to_json as results_json
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.structure import project_data, project_tree
 
@@ -52,6 +59,92 @@ def show(paths: tuple[str, ...], fmt: str) -> None:
         # A pipe or a CI log has no width: never crop the tree there.
         width = None if sys.stdout.isatty() else 100_000
         Console(soft_wrap=True, width=width).print(project_tree(project))
+
+
+def _parse_range(text: str) -> tuple[str, Range | None]:
+    name, sep, spec = text.partition("=")
+    if not sep or not name:
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI or NAME=unbounded")
+    if spec == "unbounded":
+        return name, None
+    low, sep, high = spec.partition("..")
+    try:
+        lo, hi = Fraction(low), Fraction(high)
+    except (ValueError, ZeroDivisionError):
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI with numbers, e.g. core_int=-1..1") from None
+    if not sep or lo > hi:
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI with LO <= HI")
+    return name, Range(lo, hi)
+
+
+def _ranges(specs: tuple[str, ...]) -> Ranges:
+    by_type: dict[str, Range] = {}
+    by_path: dict[str, Range] = {}
+    for spec in specs:
+        name, r = _parse_range(spec)
+        table = by_path if ("::" in name or "." in name) else by_type
+        table.pop(name, None)
+        if r is not None:
+            table[name] = r
+    return Ranges(by_type, by_path)
+
+
+def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
+    result: dict[str, ast.Expr] = {}
+    pos = ast.Pos("<command line>", 1, 1)
+    for spec in specs:
+        name, sep, text = spec.partition("=")
+        if not sep or not name:
+            raise click.BadParameter(f"'{spec}': expected NAME=VALUE")
+        if text in ("true", "false"):
+            result[name] = ast.Literal(ast.BOOLEAN, pos, text == "true")
+            continue
+        try:
+            value = Fraction(text)
+        except (ValueError, ZeroDivisionError):
+            raise click.BadParameter(f"'{spec}': VALUE must be a number, true or false") from None
+        if value.denominator == 1:
+            result[name] = ast.Literal(ast.NAT if value >= 0 else ast.INT, pos, int(value))
+        else:
+            result[name] = ast.Literal(ast.REAL, pos, value)
+    return result
+
+
+@cli.command()
+@click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
+@click.option("-a", "--assertion", "names", multiple=True, help="Check only this assertion (repeatable).")
+@click.option("-k", "--bound", type=click.IntRange(0), default=DEFAULT_BOUND, show_default=True,
+              help="Maximum number of steps (events, tocks and internal steps) searched.")
+@click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI",
+              help="Bound a type (core_int, core_nat, core_real, a model type) or a path (EXAX::move.time); "
+                   "NAME=unbounded lifts it.")
+@click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="Seconds per assertion; past it the verdict is 'unknown'.")
+@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
+          set_specs: tuple[str, ...], timeout: float | None, fmt: str) -> None:
+    """Check the assertions of the model in PATHS.
+
+    Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
+    unsupported, 2 usage error, 3 model error, 1 internal error.
+    """
+    ranges = _ranges(range_specs)
+    settings = _settings(set_specs)
+    project = _load(paths)
+    known = {a.name for a in project.assertions}
+    for n in names:
+        if n not in known:
+            raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
+                                     param_hint="'-a'")
+    results = run_check(project, names or None, bound, ranges, settings, timeout)
+    if fmt == "json":
+        click.echo(json.dumps(results_json(results, __version__), indent=2))
+    else:
+        width = None if sys.stdout.isatty() else 160
+        print_results(results, Console(width=width, soft_wrap=True))
+    counts = summary_counts(results)
+    sys.exit(10 if counts["violated"] else 20 if counts["unknown"] or counts["unsupported"] else 0)
 
 
 def _guarded(command: Callable[[], T]) -> Callable[[], T]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import sys
 from pathlib import Path
 from typing import Iterable
 
@@ -25,7 +26,11 @@ def project_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
             found += sorted(f for f in p.rglob("*") if f.suffix in SUFFIXES and f.is_file())
         else:
             found.append(p)
-    return list(dict.fromkeys(found))
+    # One file named two ways ('d/a.rct', 'd/../d/a.rct') is loaded once.
+    unique: dict[Path, Path] = {}
+    for f in found:
+        unique.setdefault(f.resolve(), f)
+    return list(unique.values())
 
 
 def load(*paths: str | os.PathLike[str]) -> Project:
@@ -41,7 +46,7 @@ def load(*paths: str | os.PathLike[str]) -> Project:
             diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a RoboChart file: expected a .rct or .assertions file"))
             continue
         try:
-            text = f.read_text(encoding="utf-8")
+            text = f.read_text(encoding="utf-8-sig")  # tolerate a byte order mark
         except (OSError, UnicodeDecodeError) as exc:
             diagnostics.append(Diagnostic(Pos(name, 1, 1), f"cannot read file: {exc}"))
             continue
@@ -55,12 +60,18 @@ def load(*paths: str | os.PathLike[str]) -> Project:
                                      "no .rct or .assertions files found")], texts)
     resolver = Resolver(parsed)
     root = str(paths[0]) if paths else "."
+    # Expressions are checked recursively: allow long flat sums and deep nesting
+    # (Python 3.11 calls between Python functions use no C stack).
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, 20_000))
     try:
         project = resolver.resolve(root, texts)
     except RecursionError:
         first = parsed[0][0] if parsed else root
         resolver.report(Pos(first, 1, 1), "model is nested too deeply to resolve")
         project = None
+    finally:
+        sys.setrecursionlimit(limit)
     diagnostics += resolver.diagnostics
     errors = [d for d in diagnostics if d.severity == "error"]
     if errors or project is None:

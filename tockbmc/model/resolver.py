@@ -225,6 +225,7 @@ class Resolver:
                 t = self.type_decl(self.table.declarations[q])
                 if isinstance(t, ast.EnumType):
                     names += [f"{t.name}::{lit}" for lit in t.literals]
+                    names += [f"{t.qname}::{lit}" for lit in t.literals]
             return names
         return []
 
@@ -289,11 +290,15 @@ class Resolver:
         def build() -> ast.Interface:
             scope, tree = decl.file, decl.tree
             events, variables, operations, clocks = [], [], [], []
+            expr_scope = Scope(scope.path, decl.qname)
+            checker = self.checker(scope, expr_scope)
             for item in tree.children[1:]:
                 if item.data == "event":
                     events.append(self.event(scope, item, decl.qname))
                 elif item.data == "var_list":
-                    variables += self.variables(scope, item, decl.qname, None, "interface")
+                    new = self.variables(scope, item, decl.qname, checker, "interface")
+                    variables += new
+                    expr_scope.variables.update({v.name: v for v in new})
                 elif item.data == "op_sig":
                     operations.append(self.op_sig(scope, item, decl.qname))
                 elif item.data == "clock":
@@ -577,6 +582,8 @@ class Resolver:
         machines: list[ast.MachineInstance] = []
         operations: list[ast.OperationInstance] = []
         relations: dict[str, list[str]] = {"uses": [], "provides": [], "requires": []}
+        expr_scope = Scope(path, qname)
+        checker = self.checker(scope, expr_scope)
         for item in tree.children[1:]:
             if item.data in relations:
                 iface = self.interface_ref(scope, item.children[0])
@@ -587,7 +594,9 @@ class Resolver:
             elif item.data == "event":
                 events.append(self.event(scope, item, qname))
             elif item.data == "var_list":
-                variables += self.variables(scope, item, qname, None)
+                new = self.variables(scope, item, qname, checker)
+                variables += new
+                expr_scope.variables.update({v.name: v for v in new})
             elif item.data == "clock":
                 self.error(path, item, "unsupported: clocks declared in a controller")
             elif item.data == "stm_def":

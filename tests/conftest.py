@@ -1,0 +1,112 @@
+"""Shared paths, fixtures and helpers for the tockbmc tests.
+
+Test modules that need these values at collection time (for parametrisation
+or inside Hypothesis tests, where function-scoped fixtures do not fit) import
+them with `from conftest import …`.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+
+import click
+import pytest
+from click.testing import CliRunner
+
+REPO = Path(__file__).resolve().parents[1]
+# The repository is cloned next to `shared/` (locally and in CI).
+SHARED = Path(__file__).resolve().parents[1].parent / "shared"
+CONFORMANCE = SHARED / "conformance" / "robochart-tests"
+EXAMPLE = REPO / "examples" / "intelliwelder"
+GENERATOR = REPO / "benchmarks" / "generate.py"
+
+
+@pytest.fixture(scope="session")
+def repo() -> Path:
+    return REPO
+
+
+@pytest.fixture(scope="session")
+def shared() -> Path:
+    return SHARED
+
+
+@pytest.fixture(scope="session")
+def example() -> Path:
+    """The IntelliWelder example project (a directory)."""
+    return EXAMPLE
+
+
+def write_files(directory: Path, files: dict[str, str]) -> Path:
+    """Write `{name: text}` into `directory`; returns the directory."""
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, text in files.items():
+        (directory / name).write_text(text, encoding="utf-8")
+    return directory
+
+
+def load_generator() -> ModuleType:
+    """`benchmarks/generate.py`, imported by path (benchmarks/ is not a package)."""
+    name = "tockbmc_benchmarks_generate"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, GENERATOR)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@dataclass(frozen=True)
+class CliOutcome:
+    """What one run of the `tockbmc` command did."""
+
+    exit_code: int
+    stdout: str
+    stderr: str
+    crash: str | None  # the traceback of an exception that escaped the command, if any
+
+    @property
+    def output(self) -> str:
+        return self.stdout + self.stderr
+
+
+def run_cli(args: list[str]) -> CliOutcome:
+    """Run `tockbmc.cli.main` with `args`, capturing its output and exit status.
+
+    `main` may be the click command itself (then `CliRunner.invoke` runs it) or
+    the console entry point, a plain function that runs the click group from
+    `sys.argv` (then it runs as the installed `tockbmc` script would).
+    """
+    from tockbmc import cli
+
+    main = cli.main
+    runner = CliRunner()
+    args = [str(a) for a in args]
+    if isinstance(main, click.Command):
+        result = runner.invoke(main, args, prog_name="tockbmc")
+        crash = None
+        if result.exception is not None and not isinstance(result.exception, SystemExit):
+            crash = "".join(traceback.format_exception(*result.exc_info)) if result.exc_info else repr(result.exception)
+        return CliOutcome(result.exit_code, result.stdout, result.stderr, crash)
+    saved_argv = sys.argv
+    code, crash = 0, None
+    with runner.isolation() as (out, err, _mixed):
+        sys.argv = ["tockbmc", *args]
+        try:
+            main()
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except Exception:  # a crash: the test reports it
+            code, crash = 1, traceback.format_exc()
+        finally:
+            sys.argv = saved_argv
+            sys.stdout.flush()
+            sys.stderr.flush()
+    return CliOutcome(code, out.getvalue().decode("utf-8", "replace"), err.getvalue().decode("utf-8", "replace"), crash)

@@ -1,0 +1,124 @@
+"""The checker on the IntelliWelder example and on small machines, verdicts and traces by hand."""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import tockbmc
+from tockbmc.check import check
+from tockbmc.cli import cli
+from tockbmc.encodings.values import Range, Ranges
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "intelliwelder"
+NOMINAL = Ranges({"core_int": Range(Fraction(0), Fraction(2)), "core_real": Range(Fraction(-1), Fraction(1))})
+REALISTIC = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_real": Range(Fraction(-1), Fraction(1))})
+
+
+@pytest.fixture(scope="module")
+def project() -> tockbmc.Project:
+    return tockbmc.load(EXAMPLE)
+
+
+def events(result) -> list[str]:
+    return [s.event for s in result.trace if s.kind != "internal"]
+
+
+@pytest.mark.parametrize("ranges", [REALISTIC, Ranges()], ids=["-1..1", "unbounded"])
+@pytest.mark.parametrize("name,machine", [("A5", "EXAX"), ("A6", "UR")])
+def test_negative_time_leads_to_termination(project, ranges, name, machine) -> None:
+    [r] = check(project, [name], bound=40, ranges=ranges)
+    assert r.verdict == "violated"
+    evs = events(r)
+    assert evs[0].startswith(f"{machine}::move.in.(") and "time=-" in evs[0]
+    assert evs[1:] == [f"{machine}::out_of_sync.out", f"{machine}::terminate"]
+    assert r.trace[-1].states == {machine: "terminated"}
+
+
+@pytest.mark.parametrize("name", ["A5", "A6"])
+def test_nominal_times_never_terminate(project, name) -> None:
+    # The default bound (40) is exercised by benchmarks/bmc_growth.py; a shorter one keeps tests fast.
+    [r] = check(project, [name], bound=14, ranges=NOMINAL)
+    assert r.verdict == "holds"
+    assert r.bound == 14 and r.ranges == {"core_int": "0..2", "core_real": "-1..1"}
+
+
+def test_csp_assertions_are_unsupported_with_reason(project) -> None:
+    results = {r.assertion: r for r in check(project, ["A1", "A2", "A3", "A4", "A7"], bound=5)}
+    for r in results.values():
+        assert r.verdict == "unsupported"
+        assert "CSP" in (r.reason or "")
+
+
+def test_cli_json_and_exit_status() -> None:
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A5", "--range", "core_int=-1..1",
+                                      "--format", "json"])
+    assert result.exit_code == 10, result.output
+    data = json.loads(result.output)
+    [r] = data["results"]
+    assert r["verdict"] == "violated" and r["engine"] == "bmc" and r["proof"] == "bounded" and r["bound"] == 40
+    assert [s["event"] for s in r["trace"] if s["kind"] == "event"][-1] == "EXAX::terminate"
+    assert data["summary"]["violated"] == 1
+
+
+def test_cli_unsupported_only_exits_20() -> None:
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A1"])
+    assert result.exit_code == 20, result.output
+
+
+@pytest.mark.parametrize("args", [["--range", "core_int=2..1"], ["--range", "core_int"], ["-a", "A9"],
+                                  ["--set", "n=abc"]])
+def test_cli_usage_errors_exit_2(args) -> None:
+    assert CliRunner().invoke(cli, ["check", str(EXAMPLE), *args]).exit_code == 2
+
+
+def machine(tmp_path: Path, body: str, assertions: str) -> tockbmc.Project:
+    (tmp_path / "m.rct").write_text(body)
+    (tmp_path / "m.assertions").write_text(assertions)
+    return tockbmc.load(tmp_path)
+
+
+def test_final_state_refuses_tock_after_terminate(tmp_path) -> None:
+    # §2.8: terminate is offered (tock may come first), then the machine refuses tock: a timelock.
+    p = machine(tmp_path, "stm M {\n initial i\n final f\n transition t { from i to f }\n}\n",
+                "assertion T: M is timelock-free.\n")
+    [r] = check(p, bound=10)
+    assert r.verdict == "violated"
+    assert events(r) == ["M::terminate"]
+
+
+def test_operation_call_is_urgent(tmp_path) -> None:
+    # §2.2: a platform call has deadline 0, so the stable configuration before it refuses tock.
+    p = machine(tmp_path, "interface I { op() }\nstm M {\n requires I\n initial i\n state s { entry op() }\n"
+                " transition t { from i to s }\n}\n", "assertion T: M is timelock-free.\n")
+    [r] = check(p, bound=10)
+    assert r.verdict == "violated"
+    assert events(r) == []
+
+
+def test_outputs_are_not_urgent_and_wait_counts_tocks(tmp_path) -> None:
+    # §2.4 and §2.9: `wait(2); e` lets exactly two tocks pass, then e may wait for the environment.
+    p = machine(tmp_path, "stm M {\n event e\n initial i\n state s { entry wait(2) ; e }\n"
+                " state u {}\n transition t { from i to s }\n transition t2 { from s to u }\n}\n",
+                "assertion R: u is reachable in M.\n")
+    [r] = check(p, bound=20)
+    assert r.verdict == "holds"
+    assert events(r) == ["tock", "tock", "M::e.out"]
+
+
+def test_guarded_input_accepts_only_values_meeting_the_condition(tmp_path) -> None:
+    # §2.5: e?x with condition x > 5 only accepts such values; reaching `big` needs one.
+    p = machine(tmp_path, "stm M {\n var x : int\n event e : int\n initial i\n state s {}\n state big {}\n"
+                " transition t { from i to s }\n transition t2 { from s to big trigger e?x condition x > 5 }\n}\n",
+                "assertion R: big is reachable in M.\nassertion N: big is not reachable in M.\n")
+    results = {r.assertion: r for r in check(p, bound=10, ranges=Ranges({"core_int": Range(Fraction(0),
+                                                                                          Fraction(5))}))}
+    assert results["R"].verdict == "unknown" and results["N"].verdict == "holds"
+    results = {r.assertion: r for r in check(p, bound=10)}
+    assert results["R"].verdict == "holds" and results["N"].verdict == "violated"
+    [ev] = events(results["N"])
+    assert ev.startswith("M::e.in.") and int(ev.rsplit(".", 1)[1]) > 5

@@ -1,0 +1,59 @@
+"""`check`: decide the assertions of a loaded project (the API behind `tockbmc check`)."""
+
+from __future__ import annotations
+
+import time
+from typing import Iterable
+
+from tockbmc.bmc.engine import bmc
+from tockbmc.bmc.result import Result
+from tockbmc.encodings.automaton import Unsupported, compile_machine
+from tockbmc.encodings.system import MachineSystem, check_encodable
+from tockbmc.encodings.values import Ranges
+from tockbmc.model import ast
+from tockbmc.properties.queries import NotSupported, query
+from tockbmc.report.trace import decode
+
+DEFAULT_BOUND = 40
+
+
+def check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
+          ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
+          timeout: float | None = None) -> list[Result]:
+    """One `Result` per selected assertion (all by default), in file order."""
+    ranges = ranges or Ranges()
+    wanted = set(names) if names is not None else None
+    return [check_assertion(project, a, bound, ranges, settings or {}, timeout)
+            for a in project.assertions if wanted is None or a.name in wanted]
+
+
+def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
+                    settings: dict[str, ast.Expr], timeout: float | None) -> Result:
+    start = time.perf_counter()
+    described = ranges.describe()
+    pos = str(a.pos)
+
+    def result(verdict: str, reason: str | None, trace: tuple = (), searched: int | None = bound) -> Result:
+        return Result(a.name, a.text, verdict, searched, described, time.perf_counter() - start, reason,
+                      trace=trace, pos=pos)
+
+    try:
+        q = query(project, a)
+        check_encodable(q.machine)
+        consts = dict(settings)
+        consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
+        system = MachineSystem(compile_machine(q.machine), ranges, consts)
+        outcome = bmc(system, q.target, bound, timeout)
+    except NotSupported as exc:
+        return result("unsupported", str(exc), searched=None)
+    except Unsupported as exc:
+        return result("unsupported", f"{exc.what} ({exc.pos})")
+    if outcome.status == "unknown":
+        return result("unknown", outcome.reason)
+    if outcome.status == "found":
+        assert outcome.model is not None
+        trace = decode(system, outcome.model, outcome.depth)
+        return result(q.found, q.describe, trace=trace)
+    if q.not_found == "holds":
+        return result("holds", f"no run of up to {bound} steps violates it")
+    return result("unknown", f"not found within {bound} steps; a bounded search alone gives no verdict")

@@ -1,0 +1,226 @@
+"""Model values and expressions as Z3 terms.
+
+A value is a Z3 term for a scalar, or a dict from field name to value for a
+record.  Integers and naturals are Z3 integers, reals are Z3 reals (exact),
+enumerations and given types are integers (enumeration literal i is i).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Union
+
+import z3
+
+from tockbmc.encodings.automaton import Unsupported
+from tockbmc.model import ast
+
+Value = Union[z3.ExprRef, dict[str, "Value"]]
+
+
+@dataclass(frozen=True)
+class Range:
+    """A closed interval bounding values the environment supplies."""
+
+    low: Fraction
+    high: Fraction
+
+    def __str__(self) -> str:
+        return f"{_num(self.low)}..{_num(self.high)}"
+
+
+def _num(x: Fraction) -> str:
+    return str(x.numerator) if x.denominator == 1 else str(float(x))
+
+
+@dataclass(frozen=True)
+class Ranges:
+    """Ranges by built-in or model type name (`core_int`, `MyType`) and by path (`EXAX::move.time`)."""
+
+    by_type: dict[str, Range] = field(default_factory=dict)
+    by_path: dict[str, Range] = field(default_factory=dict)
+
+    def describe(self) -> dict[str, str]:
+        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()}}
+
+
+TYPE_RANGE_NAMES = {"int": "core_int", "nat": "core_nat", "real": "core_real"}
+
+
+def sort_of(t: ast.Type) -> z3.SortRef:
+    if t == ast.BOOLEAN:
+        return z3.BoolSort()
+    if t == ast.REAL:
+        return z3.RealSort()
+    if t in (ast.INT, ast.NAT) or isinstance(t, (ast.EnumType, ast.GivenType)):
+        return z3.IntSort()
+    raise Unsupported(ast.Pos("<model>", 1, 1), f"values of type {t} are not encoded yet")
+
+
+def fresh(name: str, t: ast.Type) -> Value:
+    """A fresh symbolic value of type `t`."""
+    if isinstance(t, ast.RecordType):
+        return {f.name: fresh(f"{name}.{f.name}", f.type) for f in t.fields}
+    return z3.Const(name, sort_of(t))
+
+
+def leaves(v: Value, prefix: str = "") -> list[tuple[str, z3.ExprRef]]:
+    """The scalar parts of a value with their field paths (`.dist`, `.time`)."""
+    if isinstance(v, dict):
+        out: list[tuple[str, z3.ExprRef]] = []
+        for k in v:
+            out += leaves(v[k], f"{prefix}.{k}")
+        return out
+    return [(prefix, v)]
+
+
+def equal(a: Value, b: Value) -> z3.BoolRef:
+    if isinstance(a, dict) and isinstance(b, dict):
+        return z3.And([equal(a[k], b[k]) for k in a if k in b])
+    assert not isinstance(a, dict) and not isinstance(b, dict)
+    return _coerce_eq(a, b)
+
+
+def _coerce_eq(a: z3.ExprRef, b: z3.ExprRef) -> z3.BoolRef:
+    if a.sort() != b.sort() and z3.is_arith(a) and z3.is_arith(b):
+        a, b = _to_real(a), _to_real(b)
+    return a == b
+
+
+def _to_real(x: z3.ExprRef) -> z3.ExprRef:
+    return z3.ToReal(x) if x.sort() == z3.IntSort() else x
+
+
+def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
+    """Constraints on a value the environment chooses: its type's domain and any ranges."""
+    if isinstance(t, ast.RecordType):
+        assert isinstance(v, dict)
+        return [c for f in t.fields for c in domain(v[f.name], f.type, ranges, f"{path}.{f.name}")]
+    assert not isinstance(v, dict)
+    cs: list[z3.BoolRef] = []
+    if t == ast.NAT:
+        cs.append(v >= 0)
+    if isinstance(t, ast.EnumType):
+        cs += [v >= 0, v < len(t.literals)]
+    r = ranges.by_path.get(path)
+    if r is None:
+        name = TYPE_RANGE_NAMES.get(t.name, t.name) if isinstance(t, ast.PrimitiveType) else t.name
+        r = ranges.by_type.get(name)
+    if r is not None and z3.is_arith(v):
+        cs += [v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+    return cs
+
+
+def _const(x: Fraction, sort: z3.SortRef) -> z3.ExprRef:
+    if sort == z3.IntSort():
+        return z3.IntVal(int(x) if x.denominator == 1 else x.numerator // x.denominator)
+    return z3.RealVal(f"{x.numerator}/{x.denominator}")
+
+
+class Evaluator:
+    """Translates typed model expressions into Z3 terms over an environment."""
+
+    def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef]):
+        self.env = env  # id(Variable) -> value
+        self.constants = constants
+        self.side = side  # constraints that calls of uninterpreted functions add
+
+    def value(self, e: ast.Expr) -> Value:
+        if isinstance(e, ast.Literal):
+            if isinstance(e.value, bool):
+                return z3.BoolVal(e.value)
+            if isinstance(e.value, Fraction):
+                return z3.RealVal(f"{e.value.numerator}/{e.value.denominator}")
+            if isinstance(e.value, int):
+                return z3.IntVal(e.value)
+            raise Unsupported(e.pos, "string values are not encoded yet")
+        if isinstance(e, ast.EnumLiteral):
+            return z3.IntVal(e.enum.literals.index(e.literal))
+        if isinstance(e, ast.VarRef):
+            key = id(e.variable)
+            if key in self.env:
+                return self.env[key]
+            if key in self.constants:
+                return self.constants[key]
+            raise Unsupported(e.pos, f"variable '{e.variable.name}' has no value here")
+        if isinstance(e, ast.FieldRef):
+            rec = self.value(e.record)
+            assert isinstance(rec, dict)
+            return rec[e.field_name]
+        if isinstance(e, ast.RecordLiteral):
+            assert isinstance(e.type, ast.RecordType)
+            given = dict(e.fields)
+            return {f.name: (self.value(given[f.name]) if f.name in given else fresh(f"unset.{f.name}", f.type))
+                    for f in e.type.fields}
+        if isinstance(e, ast.Unary):
+            v = self.scalar(e.operand)
+            return z3.Not(v) if e.op == "not" else -v
+        if isinstance(e, ast.Binary):
+            return self._binary(e)
+        if isinstance(e, ast.IfExpr):
+            c = self.scalar(e.condition)
+            a, b = self.value(e.then), self.value(e.otherwise)
+            if isinstance(a, dict) or isinstance(b, dict):
+                assert isinstance(a, dict) and isinstance(b, dict)
+                return {k: z3.If(c, a[k], b[k]) for k in a}
+            if a.sort() != b.sort():
+                a, b = _to_real(a), _to_real(b)
+            return z3.If(c, a, b)
+        if isinstance(e, ast.Call):
+            return self._call(e)
+        raise Unsupported(e.pos, f"{type(e).__name__} expressions are not encoded yet")
+
+    def scalar(self, e: ast.Expr) -> z3.ExprRef:
+        v = self.value(e)
+        assert not isinstance(v, dict)
+        return v
+
+    def _binary(self, e: ast.Binary) -> z3.ExprRef:
+        if e.op in ("and", "or", "implies", "iff"):
+            a, b = self.scalar(e.left), self.scalar(e.right)
+            return {"and": z3.And, "or": z3.Or, "implies": z3.Implies, "iff": lambda x, y: x == y}[e.op](a, b)
+        if e.op in ("==", "!="):
+            eq = equal(self.value(e.left), self.value(e.right))
+            return eq if e.op == "==" else z3.Not(eq)
+        a, b = self.scalar(e.left), self.scalar(e.right)
+        if a.sort() != b.sort() or e.type == ast.REAL:
+            a, b = _to_real(a), _to_real(b)
+        if e.op == "+":
+            return a + b
+        if e.op == "-":
+            return a - b
+        if e.op == "*":
+            return a * b
+        if e.op == "/":
+            return a / b
+        if e.op == "%":
+            return a % b
+        return {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b}[e.op]
+
+    def _call(self, e: ast.Call) -> Value:
+        f = e.function
+        args = [self.value(a) for a in e.args]
+        if f.definition is not None:
+            inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side)
+            return inner.value(f.definition)
+        # Uninterpreted: any function meeting its pre/postconditions.
+        if isinstance(f.result, ast.RecordType) or any(isinstance(a, dict) for a in args):
+            raise Unsupported(e.pos, "uninterpreted functions over records are not encoded yet")
+        fn = z3.Function(f.qname, *[a.sort() for a in args], sort_of(f.result))  # type: ignore[union-attr]
+        result = fn(*args)
+        binding = {id(p): a for p, a in zip(f.parameters, args)}
+        post = Evaluator(binding, {}, self.side)
+        for cond in f.postconditions:
+            self.side.append(_with_result(post, cond, result))
+        return result
+
+
+def _with_result(ev: Evaluator, cond: ast.Expr, result: z3.ExprRef) -> z3.BoolRef:
+    class _R(Evaluator):
+        def value(self, e: ast.Expr) -> Value:  # noqa: D102 - binds `result`
+            if isinstance(e, ast.ResultRef):
+                return result
+            return super().value(e)
+
+    return _R(ev.env, ev.constants, ev.side).scalar(cond)
