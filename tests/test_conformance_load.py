@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import fnmatch
 import re
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import pytest
-
 from conftest import CONFORMANCE, run_cli
+
 from tockbmc import ModelError, Project, load
 from tockbmc.model import Diagnostic
 
@@ -66,7 +66,7 @@ VALID_CASES = cases(VALID)
 INVALID_CASES = cases(INVALID)
 
 
-@lru_cache(maxsize=None)
+@cache
 def outcome(directory: Path) -> Project | ModelError:
     """Load a case once per session: the project, or the ModelError (any other exception propagates)."""
     try:

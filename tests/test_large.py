@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
 from conftest import load_generator
+
 from tockbmc import Project, load
 from tockbmc.model import ast
 

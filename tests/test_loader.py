@@ -6,8 +6,8 @@ import json
 from pathlib import Path
 
 import pytest
-
 from conftest import EXAMPLE, run_cli, write_files
+
 from tockbmc import ModelError, Project, load
 from tockbmc.model import ast
 

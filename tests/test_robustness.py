@@ -11,11 +11,10 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-import pytest
+from conftest import EXAMPLE, run_cli, write_files
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import EXAMPLE, run_cli, write_files
 from tockbmc import ModelError, Project, load
 
 RCT = (EXAMPLE / "intelliwelder.rct").read_text(encoding="utf-8")

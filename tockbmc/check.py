@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from typing import Iterable
+from collections.abc import Iterable
 
 from tockbmc.bmc.engine import bmc
 from tockbmc.bmc.result import Result

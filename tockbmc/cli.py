@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 import sys
+from collections.abc import Callable
 from fractions import Fraction
-from typing import Callable, TypeVar
+from typing import TypeVar
 
 import click
 from rich.console import Console
@@ -15,10 +16,10 @@ from tockbmc.check import DEFAULT_BOUND
 from tockbmc.check import check as run_check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results
 from tockbmc.report.results import summary as summary_counts
 from tockbmc.report.results import to_json as results_json
-from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.structure import project_data, project_tree
 
 EXIT_MODEL_ERROR = 3

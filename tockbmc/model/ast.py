@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from tockbmc.model.diagnostics import Diagnostic
@@ -252,7 +252,7 @@ class Expr:
 class Literal(Expr):
     """An integer (int), real (Fraction), boolean (bool) or string (str) literal."""
 
-    value: Union[int, Fraction, bool, str]
+    value: int | Fraction | bool | str
 
 
 @dataclass(frozen=True)
@@ -378,7 +378,7 @@ class OperationCall(Stmt):
     """A call of a platform operation (`operation` is an OperationSig) or of a
     defined operation (an OperationDef, inlined by the encoder)."""
 
-    operation: Union[OperationSig, "OperationDef"]
+    operation: OperationSig | OperationDef
     args: tuple[Expr, ...]
 
 
@@ -670,7 +670,7 @@ class Project:
     modules: tuple[Module, ...] = ()
     csp_blocks: tuple[CspBlock, ...] = ()
     assertions: tuple[Assertion, ...] = ()
-    warnings: tuple["Diagnostic", ...] = ()
+    warnings: tuple[Diagnostic, ...] = ()
     sources: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
 
     def element(self, qname: str) -> StateMachine | Controller | Module | OperationDef | None:

@@ -8,9 +8,9 @@ reports every independent error.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Callable
 
 from lark import Token, Tree
 

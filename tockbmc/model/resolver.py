@@ -9,7 +9,8 @@ input.
 from __future__ import annotations
 
 import re
-from typing import Callable, Iterable, TypeVar
+from collections.abc import Callable, Iterable
+from typing import TypeVar
 
 from lark import Token, Tree
 

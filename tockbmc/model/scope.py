@@ -20,7 +20,7 @@ class Declaration:
     kind: str
     qname: str
     tree: Tree
-    file: "FileScope"
+    file: FileScope
 
 
 @dataclass

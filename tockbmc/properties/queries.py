@@ -8,8 +8,8 @@ not supported yet raise `NotSupported` with the reason.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import z3
 

@@ -7,7 +7,7 @@ from typing import Any
 from rich.tree import Tree
 
 from tockbmc.model import ast
-from tockbmc.report.pretty import expr_text, stmt_text, transition_label, trigger_text
+from tockbmc.report.pretty import expr_text, stmt_text, trigger_text
 
 Data = dict[str, Any]
 
