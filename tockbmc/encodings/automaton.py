@@ -118,19 +118,11 @@ class _Builder:
                 self._check_expr(e)
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
-        stack = [s]
-        while stack:
-            st = stack.pop()
-            if st is None:
-                continue
+        for st in ast.statements(s):
             if isinstance(st, ast.Deadline):
                 raise Unsupported(st.pos, "statement deadlines '<{d}' are not encoded yet")
             if isinstance(st, ast.OperationCall) and isinstance(st.operation, ast.OperationDef):
                 raise Unsupported(st.pos, "calls of defined operations are not encoded yet")
-            if isinstance(st, ast.Seq):
-                stack.extend(st.statements)
-            elif isinstance(st, ast.If):
-                stack.extend((st.then, st.otherwise))
 
     def _check_expr(self, e: ast.Expr | None) -> None:
         if isinstance(e, ast.SinceEntry):

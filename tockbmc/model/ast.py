@@ -410,6 +410,24 @@ class Deadline(Stmt):
     bound: Expr
 
 
+def statements(s: Stmt | None) -> list[Stmt]:
+    """`s` and every statement nested in it (sequences, branches, deadlines), without recursion."""
+    found: list[Stmt] = []
+    stack = [s]
+    while stack:
+        st = stack.pop()
+        if st is None:
+            continue
+        found.append(st)
+        if isinstance(st, Seq):
+            stack.extend(st.statements)
+        elif isinstance(st, If):
+            stack.extend((st.then, st.otherwise))
+        elif isinstance(st, Deadline):
+            stack.append(st.statement)
+    return found
+
+
 # --------------------------------------------------------------------- behaviour
 
 

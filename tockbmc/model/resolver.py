@@ -46,10 +46,6 @@ TOOLKITS = {"relation_toolkit", "sequence_toolkit", "set_toolkit", "function_too
 _CSP_DEFINITION = re.compile(r"^[ \t]*([A-Za-z_][A-Za-z0-9_']*)[ \t]*(\([^)\n]*\))?[ \t]*=(?!=)", re.M)
 
 
-class _Cycle(Exception):
-    pass
-
-
 def children(tree: Tree, data: str) -> list[Tree]:
     return [c for c in tree.children if isinstance(c, Tree) and c.data == data]
 
@@ -1046,21 +1042,11 @@ def event_directions(behaviour: ast.Behaviour) -> tuple[set[str], set[str]]:
     receives: set[str] = set()
 
     def walk(s: ast.Stmt | None) -> None:
-        stack = [s]
-        while stack:
-            st = stack.pop()
-            if st is None:
-                continue
+        for st in ast.statements(s):
             if isinstance(st, ast.Send):
                 sends.add(st.event.name)
             elif isinstance(st, ast.Receive):
                 receives.add(st.event.name)
-            elif isinstance(st, ast.Seq):
-                stack.extend(st.statements)
-            elif isinstance(st, ast.If):
-                stack.extend((st.then, st.otherwise))
-            elif isinstance(st, ast.Deadline):
-                stack.append(st.statement)
 
     for n in behaviour.nodes:
         for a in (n.entry, n.during, n.exit):
