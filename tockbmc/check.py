@@ -7,8 +7,9 @@ from collections.abc import Iterable
 
 from tockbmc.bmc.engine import bmc
 from tockbmc.bmc.result import Result
-from tockbmc.encodings.automaton import Unsupported, compile_machine
-from tockbmc.encodings.system import MachineSystem, check_encodable
+from tockbmc.encodings.automaton import Unsupported
+from tockbmc.encodings.composition import network_of
+from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
 from tockbmc.properties.queries import NotSupported, query
@@ -29,6 +30,7 @@ def check(project: ast.Project, names: Iterable[str] | None = None, bound: int =
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
                     settings: dict[str, ast.Expr], timeout: float | None) -> Result:
+    """The verdict of one assertion: its goals searched in order (see `properties.queries.Query`)."""
     start = time.perf_counter()
     described = ranges.describe()
     pos = str(a.pos)
@@ -39,21 +41,35 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
 
     try:
         q = query(project, a)
-        check_encodable(q.machine)
+        network = network_of(q.element)
+        check_encodable(network)
         consts = dict(settings)
         consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
-        system = MachineSystem(compile_machine(q.machine), ranges, consts)
-        outcome = bmc(system, q.target, bound, timeout)
+        reasons = []
+        for goal in q.goals:
+            remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
+            system = System(network, ranges, consts)
+            induction = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless else None
+            outcome = bmc(system, goal.target, bound, remaining, induction)
+            if outcome.status == "unknown":
+                return result("unknown", outcome.reason)
+            if outcome.status == "found":
+                assert outcome.model is not None
+                trace = decode(system, outcome.model, outcome.depth)
+                return result(goal.found, goal.describe(system, outcome.model, outcome.depth), trace=trace)
+            if outcome.status == "proved":
+                verdict = goal.unreachable
+                why = (f"shown for runs of every length, not only up to {bound} steps: {outcome.reason}"
+                       if verdict == "holds" else f"no run of any length reaches it: {outcome.reason}")
+            elif goal.not_found == "holds":
+                verdict, why = "holds", f"no run of up to {bound} steps reaches a violation"
+            else:
+                verdict, why = "unknown", f"not found within {bound} steps; a bounded search alone gives no verdict"
+            if verdict != "holds":
+                return result(verdict, why)
+            reasons.append(why)
     except NotSupported as exc:
         return result("unsupported", str(exc), searched=None)
     except Unsupported as exc:
         return result("unsupported", f"{exc.what} ({exc.pos})")
-    if outcome.status == "unknown":
-        return result("unknown", outcome.reason)
-    if outcome.status == "found":
-        assert outcome.model is not None
-        trace = decode(system, outcome.model, outcome.depth)
-        return result(q.found, q.describe, trace=trace)
-    if q.not_found == "holds":
-        return result("holds", f"no run of up to {bound} steps violates it")
-    return result("unknown", f"not found within {bound} steps; a bounded search alone gives no verdict")
+    return result("holds", "; ".join(reasons))

@@ -1,35 +1,86 @@
-"""Incremental bounded model checking: one solver, the unrolling only ever extended.
+"""Engines: incremental bounded model checking, strengthened by k-induction.
 
-At each depth k the target is asked under an activation literal, so the
-first satisfiable depth gives a shortest counterexample; the step k → k+1 is
-then added for good.  Engines never print: they return an `Outcome`.
+BMC keeps one solver and only ever extends the unrolling: at each depth k the
+target is asked under an activation literal, so the first satisfiable depth
+gives a shortest counterexample; the step k → k+1 is then added for good.
+
+After depth k is cleared, k-induction tries to show that no depth can reach
+the target: a second solver asks for a loop-free path of k + 1 non-target
+configurations, from any configuration, whose next one is a target.  If there
+is none, every shortest run to a target would be such a path, so none exists
+at any depth; the search stops early with `proved`.  This is sound for
+targets that read only the configuration at k (`Goal.stateless`).  Engines
+never print: they return an `Outcome`.
 """
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import z3
 
-from tockbmc.encodings.system import MachineSystem
+from tockbmc.encodings.system import System
 from tockbmc.properties.queries import Target
+
+INDUCTION_DEPTH = 12  # deepest induction tried; beyond it the simple-path constraints cost more than they save
 
 
 @dataclass
 class Outcome:
-    status: str  # "found" | "not found" | "unknown"
-    depth: int  # steps in the trace when found; the bound searched otherwise
+    status: str  # "found" | "not found" | "proved" | "unknown"
+    depth: int  # steps in the trace when found; the depth searched otherwise
     model: z3.ModelRef | None = None
     reason: str | None = None
 
 
-def bmc(system: MachineSystem, target: Target, bound: int, timeout: float | None = None) -> Outcome:
-    """Search runs of up to `bound` steps for one that reaches `target`."""
-    solver = z3.Solver()
-    if timeout is not None:
-        solver.set("timeout", max(1, int(timeout * 1000)))
+def _solver(deadline: float | None) -> z3.Solver:
+    s = z3.Solver()
+    if deadline is not None:
+        s.set("timeout", max(1, int((deadline - time.monotonic()) * 1000)))
+    return s
+
+
+class _Induction:
+    """The step case of k-induction, extended one configuration at a time."""
+
+    def __init__(self, system: System, target: Target, deadline: float | None):
+        self.system, self.target = system, target
+        self.solver = _solver(deadline)
+        self.solver.add(system.invariants())
+        self.length = 0  # configurations 0..length-1 are constrained to be non-targets
+
+    def _distinct(self, i: int, j: int) -> z3.BoolRef:
+        a, b = self.system.frame(i), self.system.frame(j)
+        return z3.Or([a[n] != b[n] for n in self.system.sorts])
+
+    def proves(self, k: int) -> bool | None:
+        """Whether k non-target configurations are always followed by a non-target (None: gave up)."""
+        s = self.system
+        while self.length < k:
+            j = self.length
+            self.solver.add(z3.Not(self.target(s, j)), s.step(j))
+            self.solver.add([self._distinct(i, j) for i in range(j)])
+            self.length += 1
+        self.solver.add([self._distinct(i, k) for i in range(k)])
+        literal = z3.Bool(f"induction@{k}")
+        self.solver.add(z3.Implies(literal, self.target(s, k)))
+        self.solver.add(s.side_constraints())
+        result = self.solver.check(literal)
+        return True if result == z3.unsat else (False if result == z3.sat else None)
+
+
+def bmc(system: System, target: Target, bound: int, timeout: float | None = None,
+        induction: Callable[[], System] | None = None) -> Outcome:
+    """Search runs of up to `bound` steps for one that reaches `target`.
+
+    `induction`, when given, makes a fresh system for the k-induction step case.
+    """
+    deadline = time.monotonic() + timeout if timeout is not None else None
+    solver = _solver(deadline)
     solver.add(system.init())
-    solver.add(system.side_constraints())
+    prover = _Induction(induction(), target, deadline) if induction is not None else None
     for k in range(bound + 1):
         goal = target(system, k)
         solver.add(system.side_constraints())
@@ -40,6 +91,9 @@ def bmc(system: MachineSystem, target: Target, bound: int, timeout: float | None
             return Outcome("found", k, solver.model())
         if result == z3.unknown:
             return Outcome("unknown", k, None, f"Z3 gave up at depth {k}: {solver.reason_unknown()}")
+        if prover is not None and k < INDUCTION_DEPTH:
+            if prover.proves(k + 1):
+                return Outcome("proved", k, None, f"it is {k + 1}-inductive, so no depth reaches it")
         if k < bound:
             solver.add(system.step(k))
             solver.add(system.side_constraints())

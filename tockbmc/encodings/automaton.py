@@ -20,6 +20,11 @@ from dataclasses import dataclass, field
 from tockbmc.model import ast
 
 
+def entry_clock(state: str) -> str:
+    """The name of the counter behind `sinceEntry(state)`: a clock reset on entering the state."""
+    return f"sinceEntry({state})"
+
+
 class Unsupported(Exception):
     """A construct the encoding does not handle yet; carries its position."""
 
@@ -37,6 +42,7 @@ class Location:
     description: str
     active: tuple[str, ...]
     kind: str = "action"  # stable | junction | action | waiting | final | terminated
+    deadline: bool = False  # inside a statement `S <{d}`: tock only while its counter is positive
 
 
 @dataclass(frozen=True)
@@ -61,11 +67,23 @@ class Edge:
     value: ast.Expr | None = None
     args: tuple[ast.Expr, ...] = ()
     updates: tuple[ast.Assign, ...] = ()
-    resets: tuple[ast.Clock, ...] = ()
+    resets: tuple[str, ...] = ()  # clocks set to 0 (`#C`, and `sinceEntry(S)` on entering S)
+    deadline: ast.Expr | None = None  # starts a statement deadline of this many tocks
     wait_low: ast.Expr | None = None
     wait_high: ast.Expr | None = None
     transition: str | None = None  # name of the transition this step belongs to
     negated_guards: tuple[tuple[ast.Expr, ...], ...] = ()  # for `else`: none of these holds
+
+
+@dataclass(frozen=True)
+class TriggerDeadline:
+    """`trigger … <{bound}` on a transition: once its source is stable (`armed` locations) and its
+    condition true, it must be taken within `bound` tocks (§2.11)."""
+
+    transition: str
+    bound: ast.Expr
+    condition: ast.Expr | None
+    armed: frozenset[int]
 
 
 @dataclass
@@ -75,9 +93,11 @@ class Automaton:
     machine: ast.StateMachine
     locations: list[Location] = field(default_factory=list)
     edges: list[Edge] = field(default_factory=list)
+    trigger_deadlines: list[TriggerDeadline] = field(default_factory=list)
 
-    def location(self, description: str, active: tuple[str, ...], kind: str = "action") -> int:
-        self.locations.append(Location(len(self.locations), description, active, kind))
+    def location(self, description: str, active: tuple[str, ...], kind: str = "action",
+                 deadline: bool = False) -> int:
+        self.locations.append(Location(len(self.locations), description, active, kind, deadline))
         return len(self.locations) - 1
 
     def edge(self, source: int, target: int, kind: str, **kw: object) -> Edge:
@@ -89,6 +109,32 @@ class Automaton:
     def name(self) -> str:
         return self.machine.name
 
+    @property
+    def clocks(self) -> tuple[str, ...]:
+        """The machine's clocks, then the `sinceEntry` counters its expressions read."""
+        extra = sorted({r for e in self.edges for r in e.resets} - {c.name for c in self.machine.clocks})
+        return (*(c.name for c in self.machine.clocks), *extra)
+
+    def _kinds(self, *kinds: str) -> frozenset[int]:
+        return frozenset(loc.index for loc in self.locations if loc.kind in kinds)
+
+    @property
+    def terminated(self) -> frozenset[int]:
+        return self._kinds("terminated")
+
+    @property
+    def waiting(self) -> frozenset[int]:
+        return self._kinds("waiting")
+
+    @property
+    def urgent(self) -> frozenset[int]:
+        """Locations offering an operation call, which is urgent (§2.2)."""
+        return frozenset(e.source for e in self.edges if e.kind == "call")
+
+    @property
+    def deadlined(self) -> frozenset[int]:
+        return frozenset(loc.index for loc in self.locations if loc.deadline)
+
 
 class _Builder:
     def __init__(self, machine: ast.StateMachine):
@@ -98,35 +144,51 @@ class _Builder:
         self.junction: dict[str, int] = {}
         self.final_top: dict[str, int] = {}
         self.terminated: int | None = None
+        self.in_state: dict[str, list[int]] = {}  # leaf state -> locations of its during action
+        self.during_start: dict[str, int] = {}
+        self.since_entry = self._since_entry_states()
+        self._in_deadline = False
         self._check_supported()
 
     # ------------------------------------------------------------ support checks
 
     def _check_supported(self) -> None:
         for n in self.m.nodes:
-            if n.during is not None:
-                raise Unsupported(n.during.pos, "during actions are not encoded yet")
+            if n.during is not None and n.composite:
+                raise Unsupported(n.during.pos, "during actions of composite states are not encoded yet")
             if n.kind == "probabilistic":
                 raise Unsupported(n.pos, "probabilistic junctions")
-            for s in (n.entry, n.exit):
+            for s in (n.entry, n.during, n.exit):
                 self._check_stmt(s)
         for t in self.m.transitions:
-            if t.deadline is not None:
-                raise Unsupported(t.deadline.pos, "transition deadlines '<{d}' are not encoded yet")
+            if t.deadline is not None and t.is_else:
+                raise Unsupported(t.deadline.pos, "deadlines on 'else' transitions are not encoded yet")
             self._check_stmt(t.action)
-            for e in (t.condition, t.trigger.value if t.trigger else None):
-                self._check_expr(e)
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
         for st in ast.statements(s):
-            if isinstance(st, ast.Deadline):
-                raise Unsupported(st.pos, "statement deadlines '<{d}' are not encoded yet")
             if isinstance(st, ast.OperationCall) and isinstance(st.operation, ast.OperationDef):
                 raise Unsupported(st.pos, "calls of defined operations are not encoded yet")
 
-    def _check_expr(self, e: ast.Expr | None) -> None:
-        if isinstance(e, ast.SinceEntry):
-            raise Unsupported(e.pos, "sinceEntry is not encoded yet")
+    def _since_entry_states(self) -> set[str]:
+        """The states whose time since entry some expression of the machine reads."""
+        found: set[str] = set()
+
+        def visit(x: object) -> None:
+            if isinstance(x, ast.SinceEntry):
+                found.add(x.state)
+            if isinstance(x, (ast.Expr, ast.Stmt)):
+                for f in dataclasses.fields(x):
+                    visit(getattr(x, f.name))
+            elif isinstance(x, tuple):
+                for y in x:
+                    visit(y)
+
+        for n in self.m.nodes:
+            visit((n.entry, n.during, n.exit))
+        for t in self.m.transitions:
+            visit((t.condition, t.action, t.deadline, t.trigger.value if t.trigger else None))
+        return found
 
     # ------------------------------------------------------------ structure
 
@@ -153,12 +215,16 @@ class _Builder:
             self.terminated = self.a.location("terminated", (), "terminated")
             for loc in self.final_top.values():
                 self.a.edge(loc, self.terminated, "terminate")
+        for n in self.m.nodes:
+            if n.during is not None and n.path in self.stable:
+                self._during(n, self.chain(n.path))
         # The machine starts by taking its top-level initial transition.
         init = self._initial(None)
         cur = start
         if init.action is not None:
             cur = self._stmt(cur, init.action, (), f"{init.name}: action")
         self._follow(cur, init, ())
+        armed: dict[str, set[int]] = {}
         for n in self.m.nodes:
             if n.path in self.stable:
                 here, active = self.stable[n.path], self.chain(n.path)
@@ -166,11 +232,19 @@ class _Builder:
                 here, active = self.junction[n.path], self.ancestors(n.path)
             else:
                 continue
-            # Candidates: the transitions of the active node and of every state containing it.
-            for source in reversed(self.chain(n.path)):
-                group = self._outgoing(source)
-                for t in group:
-                    self._fire(here, t, group, active)
+            # Candidates: the transitions of the active node and of every state containing it;
+            # a during action is abandoned when one is taken (§2.7).
+            for loc in (here, *self.in_state.get(n.path, ())):
+                for source in reversed(self.chain(n.path)):
+                    group = self._outgoing(source)
+                    for t in group:
+                        self._fire(loc, t, group, active)
+                        if t.deadline is not None and n.kind != "junction":
+                            armed.setdefault(t.name, set()).add(loc)
+        for t in self.m.transitions:
+            if t.deadline is not None and t.name in armed:
+                self.a.trigger_deadlines.append(TriggerDeadline(t.name, t.deadline, t.condition,
+                                                                frozenset(armed[t.name])))
         return self.a
 
     def _initial(self, region: str | None) -> ast.Transition:
@@ -204,7 +278,8 @@ class _Builder:
                             if o is not t and o.condition is not None and o.trigger == t.trigger)
         taken = self.a.location(f"taking {t.name}", active)
         trig = t.trigger
-        common = dict(guard=guard, negated_guards=negated, resets=t.clock_resets, transition=t.name)
+        resets = tuple(c.name for c in t.clock_resets)
+        common = dict(guard=guard, negated_guards=negated, resets=resets, transition=t.name)
         if trig is None:
             self.a.edge(here, taken, "tau", **common)
         elif trig.kind == "output":
@@ -237,6 +312,10 @@ class _Builder:
     def _entry(self, cur: int, state: str, active: tuple[str, ...]) -> int:
         node = self.m.node(state)
         inside = (*active, state)
+        if state in self.since_entry:
+            nxt = self.a.location(f"{state}: entering", inside)
+            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),))
+            cur = nxt
         if node.entry is not None:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
         return cur
@@ -254,10 +333,25 @@ class _Builder:
                 if init.action is not None:
                     cur = self._stmt(cur, init.action, inside, f"{init.name}: action")
                 self._follow(cur, init, inside)
+            elif target.during is not None:
+                self._goto(cur, self._during(target, (*active, target.path)))
             else:
                 self._goto(cur, self.stable[target.path])
         else:
             raise Unsupported(target.pos, f"entering a {target.kind}")
+
+    def _during(self, state: ast.Node, active: tuple[str, ...]) -> int:
+        """The start of a leaf state's during action, built once; it ends in the stable location."""
+        if state.path not in self.during_start:
+            first = len(self.a.locations)
+            start = self.a.location(f"{state.path}: during", active)
+            self.during_start[state.path] = start
+            assert state.during is not None
+            end = self._stmt(start, state.during, active, f"{state.path}: during")
+            self._goto(end, self.stable[state.path])
+            self.in_state[state.path] = [loc.index for loc in self.a.locations[first:]
+                                         if loc.index != self.stable[state.path]]
+        return self.during_start[state.path]
 
     def _goto(self, cur: int, target: int) -> None:
         """Continue at `target`: redirect the one step into `cur` when that loses nothing."""
@@ -279,7 +373,20 @@ class _Builder:
             for x in s.statements:
                 cur = self._stmt(cur, x, active, where)
             return cur
-        nxt = self.a.location(where, active)
+        if isinstance(s, ast.Deadline):
+            if self._in_deadline:
+                raise Unsupported(s.pos, "nested deadlines '<{d}' are not encoded yet")
+            start = self.a.location(where, active, deadline=True)
+            self.a.edge(cur, start, "tau", deadline=s.bound)
+            self._in_deadline = True
+            try:
+                end = self._stmt(start, s.statement, active, where)
+            finally:
+                self._in_deadline = False
+            nxt = self.a.location(where, active)
+            self.a.edge(end, nxt, "tau")
+            return nxt
+        nxt = self.a.location(where, active, deadline=self._in_deadline)
         if isinstance(s, ast.Assign):
             self.a.edge(cur, nxt, "tau", updates=(s,))
         elif isinstance(s, ast.Send):
@@ -290,14 +397,14 @@ class _Builder:
             assert isinstance(s.operation, ast.OperationSig)
             self.a.edge(cur, nxt, "call", operation=s.operation, args=s.args)
         elif isinstance(s, ast.ClockReset):
-            self.a.edge(cur, nxt, "tau", resets=(s.clock,))
+            self.a.edge(cur, nxt, "tau", resets=(s.clock.name,))
         elif isinstance(s, ast.Wait):
-            waiting = self.a.location(f"{where}: waiting", active, "waiting")
+            waiting = self.a.location(f"{where}: waiting", active, "waiting", self._in_deadline)
             self.a.edge(cur, waiting, "wait", wait_low=s.low, wait_high=s.high)
             self.a.edge(waiting, nxt, "tau", transition="wait over")
         elif isinstance(s, ast.If):
-            then_start = self.a.location(where, active)
-            else_start = self.a.location(where, active)
+            then_start = self.a.location(where, active, deadline=self._in_deadline)
+            else_start = self.a.location(where, active, deadline=self._in_deadline)
             self.a.edge(cur, then_start, "tau", guard=(s.condition,))
             self.a.edge(cur, else_start, "tau", negated_guards=((s.condition,),))
             self._goto(self._stmt(then_start, s.then, active, where), nxt)

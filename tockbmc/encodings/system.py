@@ -1,207 +1,490 @@
-"""The symbolic transition system of one machine, unrolled step by step in Z3.
+"""The symbolic transition system of a network of machines, unrolled step by step in Z3.
 
-Step `i` has a state (location, variables, clocks, wait counter) and an action
-`act@i`: the index of the automaton edge taken, or `TOCK`.  `step(i)` relates
-the states at `i` and `i + 1`.  Names follow pySMT's `at_time` convention:
-`x@i` is `x` at step `i`.
+A configuration is a flat set of named scalars: per machine its location,
+variables, clocks and `wait`/deadline counters; the shared variables; per
+asynchronous link its buffer.  A step is one `Move` (`semantics.md` §2): an
+internal step, a visible event or `tock`.  Step `i` picks the move `act@i`;
+`step(i)` relates the configurations at `i` and `i + 1`, each scalar's next
+value being an if-then-else over the moves that change it, so one constraint
+per scalar is written rather than a frame per move.  Names follow pySMT's
+`at_time` convention: `x@i` is `x` at step `i`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import z3
 
-from tockbmc.encodings.automaton import Automaton, Edge, Unsupported
-from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaves
+from tockbmc.encodings.automaton import Edge, TriggerDeadline, Unsupported
+from tockbmc.encodings.composition import External, Link, Network, Port
+from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaves, sort_of
 from tockbmc.model import ast
 
 
-@dataclass
-class StepState:
-    loc: z3.ArithRef
-    variables: dict[int, Value]
-    clocks: dict[str, z3.ArithRef]
-    wait: z3.ArithRef
+@dataclass(frozen=True)
+class Move:
+    """One kind of step.
+
+    kind: internal | event | tock.  `parts` are the (component, edge) pairs
+    that move together: none for tock and for the environment's side of a
+    buffer, one for a machine's own step, two for a synchronous connection.
+    role: local | sync | write | read | env-write | env-read | tock.
+    """
+
+    index: int
+    kind: str
+    role: str
+    parts: tuple[tuple[int, Edge], ...] = ()
+    link: Link | None = None
+
+    @property
+    def urgent(self) -> bool:
+        """Internal steps and operation calls may not wait for `tock` (§2.1–2)."""
+        return self.kind == "internal" or any(e.kind == "call" for _, e in self.parts)
 
 
 @dataclass
-class MachineSystem:
-    """The unrolling of one automaton; states and inputs are created on demand."""
+class _Effect:
+    enabled: list[z3.BoolRef]  # determined by the configuration and the chosen values
+    choose: list[z3.BoolRef]  # constraints on values chosen in the step (inputs, wait lengths)
+    post: dict[str, z3.ExprRef]  # scalars the step changes
+    chosen: list[z3.ExprRef]  # the values the environment chooses (event inputs)
 
-    automaton: Automaton
-    ranges: Ranges
-    settings: dict[str, ast.Expr] = field(default_factory=dict)  # constant name -> value
 
-    def __post_init__(self) -> None:
-        m = self.automaton.machine
-        self.name = m.name
-        self.variables = [v for v in (*m.variables, *m.interface_variables) if not v.constant]
-        self.constant_vars = [v for v in (*m.variables, *m.interface_variables) if v.constant]
-        self.TOCK = len(self.automaton.edges)
-        self.states: list[StepState] = []
+class System:
+    """The unrolling of a network; configurations and inputs are created on demand."""
+
+    def __init__(self, network: Network, ranges: Ranges, settings: dict[str, ast.Expr] | None = None,
+                 tag: str = ""):
+        self.network = network
+        self.ranges = ranges
+        self.settings = settings or {}
+        self.tag = tag
+        self.name = network.name
+        self.components = network.components
+        self.sorts: dict[str, z3.SortRef] = {}
+        self.frames: list[dict[str, z3.ExprRef]] = []
         self.actions: list[z3.ArithRef] = []
-        self.inputs: list[dict[int, Value]] = []  # per step: event id -> input value
-        self.choices: list[z3.ArithRef] = []
+        self.fresh_values: dict[str, Value] = {}
         self.side: list[z3.BoolRef] = []
-        self.constants: dict[int, Value] = {}
-        self.constraints: list[z3.BoolRef] = []  # on constants
-        for c in self.constant_vars:
-            v = fresh(f"{self.name}::{c.name}", c.type)
-            self.constants[id(c)] = v
-            given = self.settings.get(c.name)
-            expr = given if given is not None else c.initial
-            if expr is not None:
-                self.constraints.append(equal(v, Evaluator({}, self.constants, self.side).value(expr)))
-            else:
-                self.constraints += domain(v, c.type, self.ranges, f"{self.name}::{c.name}")
-        self._urgent_locs = {e.source for e in self.automaton.edges if e.kind == "call"}
-        self._terminated = {loc.index for loc in self.automaton.locations if loc.kind == "terminated"}
-        self._waiting = {loc.index for loc in self.automaton.locations if loc.kind == "waiting"}
+        self.constraints: list[z3.BoolRef] = []  # on constants: they hold at every step
+        self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
+        self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
+        self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
+        self._effects: dict[tuple[int, int], _Effect] = {}
+        self._halted: dict[int, z3.BoolRef] = {}
+        self._declare()
+        self.moves = self._moves()
+        self.TOCK = len(self.moves) - 1
+
+    # ------------------------------------------------------------ declarations
+
+    def _slot(self, name: str, sort: z3.SortRef) -> str:
+        self.sorts[name] = sort
+        return name
+
+    def _scalars(self, base: str, t: ast.Type) -> None:
+        for path, _ in leaves(fresh("probe", t)):
+            self._slot(base + path, sort_of(_leaf_type(t, path)))
+
+    def _declare(self) -> None:
+        shared_consts: dict[str, Value] = {}
+        for c, comp in enumerate(self.components):
+            m = comp.machine
+            self._slot(f"{comp.name}.loc", z3.IntSort())
+            self._slot(f"{comp.name}.wait", z3.IntSort())
+            self._slot(f"{comp.name}.deadline", z3.IntSort())
+            for clock in comp.automaton.clocks:
+                self._slot(f"{comp.name}.clock.{clock}", z3.IntSort())
+            for td in comp.automaton.trigger_deadlines:
+                self._slot(f"{comp.name}.armed.{td.transition}", z3.IntSort())
+            slots: dict[int, tuple[str, ast.Type]] = {}
+            consts: dict[int, Value] = {}
+            for v in (*m.variables, *m.interface_variables):
+                if v.type == ast.STRING:
+                    raise Unsupported(v.pos, "string variables are not encoded yet")
+                shared = v.kind == "interface"
+                if v.constant:
+                    if shared and v.name in shared_consts:
+                        consts[id(v)] = shared_consts[v.name]
+                        continue
+                    owner = self.network.shared.get(v.name) if shared else v
+                    consts[id(v)] = self._constant(v, owner or v, v.name if shared else f"{comp.name}::{v.name}")
+                    if shared:
+                        shared_consts[v.name] = consts[id(v)]
+                    continue
+                base = v.name if shared else f"{comp.name}.{v.name}"
+                slots[id(v)] = (base, v.type)
+                if base not in self.initial:
+                    self._scalars(base, v.type)
+                    decl = self.network.shared.get(v.name) if shared else v
+                    self.initial[base] = (v.type, decl.initial if decl is not None else None, c)
+            self.slots[c] = slots
+            self.constants[c] = consts
+        for link in self.network.links:
+            if link.asynchronous:
+                self._slot(f"buffer{link.index}.full", z3.BoolSort())
+                t = _end_event(link).type
+                if t is not None:
+                    self._scalars(f"buffer{link.index}.value", t)
+
+    def _constant(self, v: ast.Variable, decl: ast.Variable, name: str) -> Value:
+        value = fresh(f"{self.tag}{name}", v.type)
+        given = self.settings.get(v.name)
+        expr = given if given is not None else decl.initial
+        if expr is not None:
+            self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))
+        else:
+            self.constraints += domain(value, v.type, self.ranges, name)
+        return value
 
     # ------------------------------------------------------------ symbols
 
-    def state(self, i: int) -> StepState:
-        while len(self.states) <= i:
-            k = len(self.states)
-            self.states.append(StepState(
-                z3.Int(f"{self.name}.loc@{k}"),
-                {id(v): fresh(f"{self.name}.{v.name}@{k}", v.type) for v in self.variables},
-                {c.name: z3.Int(f"{self.name}.clock.{c.name}@{k}") for c in self.automaton.machine.clocks},
-                z3.Int(f"{self.name}.wait@{k}"),
-            ))
-        return self.states[i]
+    def frame(self, i: int) -> dict[str, z3.ExprRef]:
+        """The configuration at step i, as scalars by name."""
+        while len(self.frames) <= i:
+            k = len(self.frames)
+            self.frames.append({n: z3.Const(f"{self.tag}{n}@{k}", s) for n, s in self.sorts.items()})
+        return self.frames[i]
 
     def action(self, i: int) -> z3.ArithRef:
+        """The index of the move taken at step i."""
         while len(self.actions) <= i:
-            self.actions.append(z3.Int(f"{self.name}.act@{len(self.actions)}"))
+            self.actions.append(z3.Int(f"{self.tag}act@{len(self.actions)}"))
         return self.actions[i]
 
-    def input(self, i: int, event: ast.Event) -> Value:
-        while len(self.inputs) <= i:
-            self.inputs.append({})
-        table = self.inputs[i]
-        if id(event) not in table:
-            assert event.type is not None
-            table[id(event)] = fresh(f"{self.name}.{event.name}.in@{i}", event.type)
-        return table[id(event)]
+    def chosen(self, name: str, t: ast.Type, i: int) -> Value:
+        """A value chosen during step i (an input, a wait length), created once."""
+        key = f"{name}@{i}"
+        if key not in self.fresh_values:
+            self.fresh_values[key] = fresh(f"{self.tag}{key}", t)
+        return self.fresh_values[key]
 
-    def choice(self, i: int) -> z3.ArithRef:
-        while len(self.choices) <= i:
-            self.choices.append(z3.Int(f"{self.name}.wait_choice@{len(self.choices)}"))
-        return self.choices[i]
+    def loc(self, c: int, i: int) -> z3.ArithRef:
+        return self.frame(i)[f"{self.components[c].name}.loc"]  # type: ignore[return-value]
 
-    def evaluator(self, i: int, extra: dict[int, Value] | None = None) -> Evaluator:
-        env = dict(self.state(i).variables)
+    def value(self, base: str, t: ast.Type, i: int) -> Value:
+        f = self.frame(i)
+        if isinstance(t, ast.RecordType):
+            return {fd.name: self.value(f"{base}.{fd.name}", fd.type, i) for fd in t.fields}
+        return f[base]
+
+    def evaluator(self, c: int, i: int, extra: dict[int, Value] | None = None) -> Evaluator:
+        env = {key: self.value(base, t, i) for key, (base, t) in self.slots[c].items()}
         if extra:
             env.update(extra)
-        return Evaluator(env, self.constants, self.side)
+        name = self.components[c].name
+        clocks = {clock: self.frame(i)[f"{name}.clock.{clock}"] for clock in self.components[c].automaton.clocks}
+        return Evaluator(env, self.constants[c], self.side, clocks)
+
+    # ------------------------------------------------------------ moves
+
+    def _moves(self) -> list[Move]:
+        moves: list[Move] = []
+
+        def add(kind: str, role: str, parts: tuple[tuple[int, Edge], ...] = (), link: Link | None = None) -> None:
+            moves.append(Move(len(moves), kind, role, parts, link))
+
+        for c, comp in enumerate(self.components):
+            for e in comp.automaton.edges:
+                if e.kind in ("tau", "wait"):
+                    add("internal", "local", ((c, e),))
+                elif e.kind in ("call", "terminate"):
+                    add("event", "local", ((c, e),))
+                else:
+                    assert e.event is not None
+                    found = self.network.route(c, e.event.name)
+                    if found is None:
+                        add("event", "local", ((c, e),))
+                        continue
+                    link, role = found
+                    other = link.receiver if role == "sender" else link.sender
+                    if isinstance(other, External) and not link.asynchronous:
+                        add("event", "local", ((c, e),), link)
+                    elif link.asynchronous:
+                        wants = "out" if role == "sender" else "in"
+                        if e.kind != wants:
+                            raise Unsupported(link.pos, f"{comp.name} uses '{e.event.name}' as an "
+                                                        f"{'input' if e.kind == 'in' else 'output'}, against the "
+                                                        "direction of its asynchronous connection")
+                        add("internal", "write" if role == "sender" else "read", ((c, e),), link)
+        for link in self.network.links:
+            if isinstance(link.sender, Port) and isinstance(link.receiver, Port) and not link.asynchronous:
+                a, b = link.sender, link.receiver
+                for ea in self.components[a.component].automaton.edges:
+                    if ea.event is None or ea.event.name != a.event.name or ea.kind not in ("in", "out"):
+                        continue
+                    for eb in self.components[b.component].automaton.edges:
+                        if eb.event is None or eb.event.name != b.event.name or eb.kind not in ("in", "out"):
+                            continue
+                        if ea.kind == eb.kind == "in" and a.event.type is not None:
+                            raise Unsupported(link.pos, f"both ends of the connection on '{a.event.name}' "
+                                                        "receive; neither sends a value")
+                        add("internal", "sync", ((a.component, ea), (b.component, eb)), link)
+            elif link.asynchronous and isinstance(link.sender, External):
+                add("event", "env-write", (), link)
+            elif link.asynchronous and isinstance(link.receiver, External):
+                add("event", "env-read", (), link)
+        add("tock", "tock")
+        return moves
+
+    # ------------------------------------------------------------ effects of one move
+
+    def _edge(self, c: int, e: Edge, i: int, incoming: Value | None, post: dict[str, z3.ExprRef]
+              ) -> tuple[list[z3.BoolRef], list[z3.BoolRef], Value | None]:
+        """Component c takes edge e at step i, receiving `incoming` on an input.
+
+        Returns (conditions fixed by the configuration, constraints on chosen
+        values, the value sent on an output); writes the changed scalars into `post`.
+        """
+        comp = self.components[c]
+        f = self.frame(i)
+        enabled: list[z3.BoolRef] = [self.loc(c, i) == e.source]
+        choose: list[z3.BoolRef] = []
+        bound: dict[int, Value] = {}
+        if incoming is not None and e.binds is not None:
+            bound[id(e.binds)] = incoming
+        ev = self.evaluator(c, i, bound)
+        if incoming is not None and e.value is not None and e.kind == "in":
+            enabled.append(equal(incoming, ev.value(e.value)))
+        enabled += [ev.scalar(g) for g in e.guard]
+        for group in e.negated_guards:
+            enabled.append(z3.Not(z3.And([ev.scalar(g) for g in group])))
+        if comp.automaton.locations[e.source].kind == "waiting":
+            enabled.append(f[f"{comp.name}.wait"] == 0)
+        sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
+        # Updates in order, each reading the values the previous ones wrote.
+        current = {key: self.value(base, t, i) for key, (base, t) in self.slots[c].items()}
+        current.update(bound)
+        for a in e.updates:
+            new = Evaluator(current, self.constants[c], self.side, ev.clocks).value(a.value)
+            key = id(a.variable)
+            current[key] = _set_field(current[key], a.fields, new) if a.fields else new
+        for key, (base, _t) in self.slots[c].items():
+            if key in bound or any(id(a.variable) == key for a in e.updates):
+                for path, term in leaves(current[key]):
+                    post[base + path] = term
+        if e.target != e.source:
+            post[f"{comp.name}.loc"] = z3.IntVal(e.target)
+        for clock in e.resets:
+            post[f"{comp.name}.clock.{clock}"] = z3.IntVal(0)
+        if e.kind == "wait":
+            length = self.chosen(f"{comp.name}.wait_length", ast.INT, i)
+            low, high = ev.scalar(e.wait_low), ev.scalar(e.wait_high)  # type: ignore[arg-type]
+            enabled.append(low <= high)
+            choose += [length >= low, length <= high]  # type: ignore[list-item, operator]
+            post[f"{comp.name}.wait"] = length  # type: ignore[assignment]
+        if e.deadline is not None:
+            post[f"{comp.name}.deadline"] = ev.scalar(e.deadline)  # type: ignore[assignment]
+        for td in comp.automaton.trigger_deadlines:
+            if e.target not in td.armed:
+                post[f"{comp.name}.armed.{td.transition}"] = z3.IntVal(0)
+        return enabled, choose, sent
+
+    def _input(self, name: str, event: ast.Event, i: int, path: str) -> tuple[Value, list[z3.BoolRef]]:
+        """A value the environment supplies on `event` at step i, within its type and ranges."""
+        assert event.type is not None
+        value = self.chosen(name, event.type, i)
+        return value, domain(value, event.type, self.ranges, path)
+
+    def effect(self, m: Move, i: int) -> _Effect:
+        """What taking move m at step i requires and changes."""
+        key = (m.index, i)
+        if key not in self._effects:
+            self._effects[key] = self._effect(m, i)
+        return self._effects[key]
+
+    def _effect(self, m: Move, i: int) -> _Effect:
+        if m.role == "tock":
+            return _Effect([self.tock_enabled(i)], [], self._tock_post(i), [])
+        post: dict[str, z3.ExprRef] = {}
+        inputs: list[z3.ExprRef] = []
+        enabled: list[z3.BoolRef] = [z3.Not(self.halted(i))]
+        choose: list[z3.BoolRef] = []
+        link = m.link
+        if m.role == "local":
+            c, e = m.parts[0]
+            incoming = None
+            if e.kind == "in" and e.event is not None and e.event.type is not None:
+                name = self.network.visible_name(c, e.event.name)
+                incoming, dom = self._input(f"in.{name}", e.event, i, name)
+                choose += dom
+                inputs += [term for _, term in leaves(incoming)]
+            en, ch, _ = self._edge(c, e, i, incoming, post)
+            enabled += en
+            choose += ch
+        elif m.role == "sync":
+            (a, ea), (b, eb) = m.parts
+            out_first = ea.kind == "out" or eb.kind != "out"
+            (s, es), (r, er) = ((a, ea), (b, eb)) if out_first else ((b, eb), (a, ea))
+            en1, ch1, sent = self._edge(s, es, i, None, post)
+            en2, ch2, sent2 = self._edge(r, er, i, sent, post)
+            enabled += en1 + en2
+            choose += ch1 + ch2
+            if sent is not None and sent2 is not None:
+                enabled.append(equal(sent, sent2))
+        elif m.role in ("write", "read"):
+            assert link is not None
+            c, e = m.parts[0]
+            buffer = self._buffer(link, i)
+            if m.role == "write":
+                en, ch, sent = self._edge(c, e, i, None, post)
+                post[f"buffer{link.index}.full"] = z3.BoolVal(True)
+                if sent is not None:
+                    self._write(link, sent, post)
+            else:
+                en, ch, _ = self._edge(c, e, i, buffer, post)
+                en.append(self.frame(i)[f"buffer{link.index}.full"])  # type: ignore[arg-type]
+                post[f"buffer{link.index}.full"] = z3.BoolVal(False)
+            enabled += en
+            choose += ch
+        elif m.role == "env-write":
+            assert link is not None and isinstance(link.sender, External)
+            post[f"buffer{link.index}.full"] = z3.BoolVal(True)
+            if link.sender.event.type is not None:
+                value, dom = self._input(f"in.{link.sender.name}", link.sender.event, i, link.sender.name)
+                choose += dom
+                inputs += [term for _, term in leaves(value)]
+                self._write(link, value, post)
+        else:  # env-read
+            assert link is not None
+            enabled.append(self.frame(i)[f"buffer{link.index}.full"])  # type: ignore[arg-type]
+            post[f"buffer{link.index}.full"] = z3.BoolVal(False)
+        return _Effect(enabled, choose, post, inputs)
+
+    def _buffer(self, link: Link, i: int) -> Value | None:
+        t = _end_event(link).type
+        return None if t is None else self.value(f"buffer{link.index}.value", t, i)
+
+    def _write(self, link: Link, value: Value, post: dict[str, z3.ExprRef]) -> None:
+        for path, term in leaves(value):
+            post[f"buffer{link.index}.value{path}"] = term
+
+    def _tock_post(self, i: int) -> dict[str, z3.ExprRef]:
+        f = self.frame(i)
+        post: dict[str, z3.ExprRef] = {}
+        for c, comp in enumerate(self.components):
+            for clock in comp.automaton.clocks:
+                post[f"{comp.name}.clock.{clock}"] = f[f"{comp.name}.clock.{clock}"] + 1  # type: ignore[operator]
+            waiting = self._at(c, i, comp.automaton.waiting)
+            w = f[f"{comp.name}.wait"]
+            post[f"{comp.name}.wait"] = z3.If(waiting, w - 1, w)  # type: ignore[operator]
+            bounded = self._at(c, i, comp.automaton.deadlined)
+            d = f[f"{comp.name}.deadline"]
+            post[f"{comp.name}.deadline"] = z3.If(bounded, d - 1, d)  # type: ignore[operator]
+            for td in comp.automaton.trigger_deadlines:
+                name = f"{comp.name}.armed.{td.transition}"
+                post[name] = z3.If(self._armed(c, td, i), f[name] + 1, 0)  # type: ignore[operator]
+        return post
+
+    def _armed(self, c: int, td: TriggerDeadline, i: int) -> z3.BoolRef:
+        """The source of a deadline transition is stable and its condition true."""
+        cond = self.evaluator(c, i).scalar(td.condition) if td.condition is not None else z3.BoolVal(True)
+        return z3.And(self._at(c, i, td.armed), cond)
+
+    # ------------------------------------------------------------ predicates on a configuration
+
+    def _at(self, c: int, i: int, locations: frozenset[int]) -> z3.BoolRef:
+        loc = self.loc(c, i)
+        return z3.Or([loc == x for x in sorted(locations)]) if locations else z3.BoolVal(False)
+
+    def halted(self, i: int) -> z3.BoolRef:
+        """Some machine has terminated, so the whole network has (§2.8, §2.12)."""
+        if i not in self._halted:
+            self._halted[i] = z3.Or([self._at(c, i, comp.automaton.terminated)
+                                     for c, comp in enumerate(self.components)])
+        return self._halted[i]
+
+    def enabled(self, m: Move, i: int) -> z3.BoolRef:
+        """Move m is possible at step i; for a visible input, for some value the environment may offer."""
+        eff = self.effect(m, i)
+        if eff.chosen:
+            return z3.Exists(eff.chosen, z3.And(eff.enabled + eff.choose))
+        return z3.And(eff.enabled)
+
+    def event_offered(self, i: int) -> z3.BoolRef:
+        """Some visible event other than tock is possible at step i."""
+        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "event"] or [z3.BoolVal(False)])
+
+    def internal_enabled(self, i: int) -> z3.BoolRef:
+        """Some internal step is possible at step i (internal steps choose no values)."""
+        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "internal"] or [z3.BoolVal(False)])
+
+    def tock_enabled(self, i: int) -> z3.BoolRef:
+        """Time may pass at step i: maximal progress, urgent calls, deadlines, termination (§2.1)."""
+        cs = [z3.Not(self.halted(i)), z3.Not(self.internal_enabled(i))]
+        f = self.frame(i)
+        for c, comp in enumerate(self.components):
+            cs.append(z3.Not(self._at(c, i, comp.automaton.urgent)))
+            cs.append(z3.Implies(self._at(c, i, comp.automaton.deadlined), f[f"{comp.name}.deadline"] > 0))
+            for td in comp.automaton.trigger_deadlines:
+                bound = self.evaluator(c, i).scalar(td.bound)
+                cs.append(z3.Not(z3.And(self._armed(c, td, i), f[f"{comp.name}.armed.{td.transition}"] >= bound)))
+        return z3.And(cs)
 
     # ------------------------------------------------------------ formulas
 
     def init(self) -> z3.BoolRef:
-        s = self.state(0)
-        cs = [s.loc == 0, s.wait == 0, *self.constraints]
-        cs += [c == 0 for c in s.clocks.values()]
-        ev = self.evaluator(0)
-        for v in self.variables:
-            if v.initial is not None:
-                cs.append(equal(s.variables[id(v)], ev.value(v.initial)))
+        """The initial configuration (and the constants' values or ranges)."""
+        f = self.frame(0)
+        cs = list(self.constraints)
+        for comp in self.components:
+            cs += [f[f"{comp.name}.loc"] == 0, f[f"{comp.name}.wait"] == 0, f[f"{comp.name}.deadline"] == 0]
+            cs += [f[f"{comp.name}.clock.{clock}"] == 0 for clock in comp.automaton.clocks]
+            cs += [f[f"{comp.name}.armed.{td.transition}"] == 0 for td in comp.automaton.trigger_deadlines]
+        for base, (t, initial, c) in self.initial.items():
+            value = self.value(base, t, 0)
+            if initial is not None:
+                cs.append(equal(value, self.evaluator(c, 0).value(initial)))
             else:
-                cs += domain(s.variables[id(v)], v.type, self.ranges, f"{self.name}::{v.name}")
+                cs += domain(value, t, self.ranges, base.replace(".", "::", 1) if "." in base else base)
+        for link in self.network.links:
+            if link.asynchronous:
+                cs.append(z3.Not(f[f"buffer{link.index}.full"]))
         return z3.And(cs)
 
-    def _guard(self, e: Edge, i: int, env: Evaluator) -> list[z3.BoolRef]:
-        cs = [env.scalar(g) for g in e.guard]
-        for group in e.negated_guards:
-            cs.append(z3.Not(z3.And([env.scalar(g) for g in group])))
-        if self.automaton.locations[e.source].kind == "waiting":
-            cs.append(self.state(i).wait == 0)
-        return cs
-
-    def enabled_internal(self, i: int) -> z3.BoolRef:
-        """Some internal step is possible at step i."""
-        s = self.state(i)
-        env = self.evaluator(i)
-        return z3.Or([z3.And(s.loc == e.source, *self._guard(e, i, env))
-                      for e in self.automaton.edges if e.kind in ("tau", "wait")] or [z3.BoolVal(False)])
-
-    def tock_enabled(self, i: int) -> z3.BoolRef:
-        """Time may pass at step i (maximal progress, urgent calls, termination)."""
-        s = self.state(i)
-        blocked = [s.loc == loc for loc in sorted(self._urgent_locs | self._terminated)]
-        return z3.And(z3.Not(self.enabled_internal(i)), z3.Not(z3.Or(blocked)) if blocked else z3.BoolVal(True))
-
-    def _effects(self, e: Edge, i: int) -> tuple[list[z3.BoolRef], dict[int, Value]]:
-        """(what must hold to take `e` at step i, the variables' values after it)."""
-        s = self.state(i)
-        bound: dict[int, Value] = {}
-        cs = [s.loc == e.source]
-        if e.kind == "in" and e.event is not None and e.event.type is not None:
-            value = self.input(i, e.event)
-            cs += domain(value, e.event.type, self.ranges, f"{self.name}::{e.event.name}")
-            if e.binds is not None:
-                bound[id(e.binds)] = value
-            if e.value is not None:
-                cs.append(equal(value, self.evaluator(i).value(e.value)))
-        cs += self._guard(e, i, self.evaluator(i, bound))
-        current = dict(s.variables)
-        current.update(bound)
-        for a in e.updates:
-            new = Evaluator(current, self.constants, self.side).value(a.value)
-            key = id(a.variable)
-            current[key] = _set_field(current[key], a.fields, new) if a.fields else new
-        if e.kind == "wait":
-            ev = self.evaluator(i)
-            ch = self.choice(i)
-            cs += [ch >= ev.scalar(e.wait_low), ch <= ev.scalar(e.wait_high)]  # type: ignore[arg-type]
-        return cs, current
+    def invariants(self) -> list[z3.BoolRef]:
+        """What holds in every configuration whatever the history: the constants' constraints."""
+        return list(self.constraints)
 
     def step(self, i: int) -> z3.BoolRef:
-        """One step from i to i + 1: the edge or tock that `act@i` names.
-
-        Next-state values are functions of `act@i` (if-then-else chains over the
-        edges that change them), so each step adds one constraint per variable
-        rather than a frame per edge.
-        """
-        s, t = self.state(i), self.state(i + 1)
+        """One step from i to i + 1: the move that `act@i` names."""
+        s, t = self.frame(i), self.frame(i + 1)
         act = self.action(i)
-        cs = [act >= 0, act <= self.TOCK, z3.Implies(act == self.TOCK, self.tock_enabled(i))]
-        next_loc: z3.ArithRef = s.loc
-        changes: dict[tuple[int, str], list[tuple[z3.BoolRef, z3.ExprRef]]] = {}
-        for e in self.automaton.edges:
-            taken = act == e.index
-            pre, after = self._effects(e, i)
-            cs.append(z3.Implies(taken, z3.And(pre)))
-            if e.target != e.source:
-                next_loc = z3.If(taken, e.target, next_loc)
-            for key, value in after.items():
-                old = dict(leaves(s.variables[key]))
-                for path, term in leaves(value):
-                    if not term.eq(old[path]):
-                        changes.setdefault((key, path), []).append((taken, term))
-        cs.append(t.loc == next_loc)
-        for v in self.variables:
-            for path, term in leaves(s.variables[id(v)]):
-                new = term
-                for taken, value in changes.get((id(v), path), []):
-                    new = z3.If(taken, value, new)
-                cs.append(dict(leaves(t.variables[id(v)]))[path] == new)
-        for name, c in s.clocks.items():
-            resets = [act == e.index for e in self.automaton.edges if any(r.name == name for r in e.resets)]
-            reset = z3.Or(resets) if resets else z3.BoolVal(False)
-            cs.append(t.clocks[name] == z3.If(act == self.TOCK, c + 1, z3.If(reset, 0, c)))
-        waiting = z3.Or([s.loc == w for w in self._waiting]) if self._waiting else z3.BoolVal(False)
-        starts = [act == e.index for e in self.automaton.edges if e.kind == "wait"]
-        start = z3.Or(starts) if starts else z3.BoolVal(False)
-        cs.append(t.wait == z3.If(act == self.TOCK, z3.If(waiting, s.wait - 1, s.wait),
-                                  z3.If(start, self.choice(i), s.wait)))
+        cs = [act >= 0, act <= self.TOCK]
+        changes: dict[str, list[tuple[z3.BoolRef, z3.ExprRef]]] = {}
+        for m in self.moves:
+            taken = act == m.index
+            eff = self.effect(m, i)
+            cs.append(z3.Implies(taken, z3.And(eff.enabled + eff.choose)))
+            for name, term in eff.post.items():
+                if not term.eq(s[name]):
+                    changes.setdefault(name, []).append((taken, term))
+        for name, old in s.items():
+            new = old
+            for taken, term in changes.get(name, []):
+                new = z3.If(taken, term, new)
+            cs.append(t[name] == new)
         return z3.And(cs)
 
     def side_constraints(self) -> list[z3.BoolRef]:
         """Constraints added by calls of uninterpreted functions; collect after building formulas."""
         out, self.side[:] = list(self.side), []
         return out
+
+
+def _end_event(link: Link) -> ast.Event:
+    return link.receiver.event if isinstance(link.receiver, (Port, External)) else link.sender.event
+
+
+def _leaf_type(t: ast.Type, path: str) -> ast.Type:
+    for part in [p for p in path.split(".") if p]:
+        assert isinstance(t, ast.RecordType)
+        ft = t.field_type(part)
+        assert ft is not None
+        t = ft
+    return t
 
 
 def _set_field(record: Value, path: tuple[str, ...], new: Value) -> Value:
@@ -212,11 +495,9 @@ def _set_field(record: Value, path: tuple[str, ...], new: Value) -> Value:
     return copy
 
 
-def check_encodable(machine: ast.StateMachine) -> None:
-    """Raise `Unsupported` for string-typed data, which the encoding does not handle."""
-    for v in (*machine.variables, *machine.interface_variables):
-        if v.type == ast.STRING:
-            raise Unsupported(v.pos, "string variables are not encoded yet")
-    for e in machine.events:
-        if e.type == ast.STRING:
-            raise Unsupported(e.pos, "string events are not encoded yet")
+def check_encodable(network: Network) -> None:
+    """Raise `Unsupported` for string-typed events, which the encoding does not handle."""
+    for comp in network.components:
+        for e in comp.machine.events:
+            if e.type == ast.STRING:
+                raise Unsupported(e.pos, "string events are not encoded yet")

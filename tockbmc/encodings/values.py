@@ -13,7 +13,7 @@ from typing import Union
 
 import z3
 
-from tockbmc.encodings.automaton import Unsupported
+from tockbmc.encodings.automaton import Unsupported, entry_clock
 from tockbmc.model import ast
 
 Value = Union[z3.ExprRef, dict[str, "Value"]]
@@ -121,10 +121,12 @@ def _const(x: Fraction, sort: z3.SortRef) -> z3.ExprRef:
 class Evaluator:
     """Translates typed model expressions into Z3 terms over an environment."""
 
-    def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef]):
+    def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
+                 clocks: dict[str, z3.ExprRef] | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
+        self.clocks = clocks or {}  # clock name (or `sinceEntry(S)`) -> tocks counted
 
     def value(self, e: ast.Expr) -> Value:
         if isinstance(e, ast.Literal):
@@ -169,6 +171,11 @@ class Evaluator:
             return z3.If(c, a, b)
         if isinstance(e, ast.Call):
             return self._call(e)
+        if isinstance(e, (ast.Since, ast.SinceEntry)):
+            name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
+            if name not in self.clocks:
+                raise Unsupported(e.pos, f"clock '{name}' has no value here")
+            return self.clocks[name]
         raise Unsupported(e.pos, f"{type(e).__name__} expressions are not encoded yet")
 
     def scalar(self, e: ast.Expr) -> z3.ExprRef:
@@ -223,4 +230,4 @@ def _with_result(ev: Evaluator, cond: ast.Expr, result: z3.ExprRef) -> z3.BoolRe
                 return result
             return super().value(e)
 
-    return _R(ev.env, ev.constants, ev.side).scalar(cond)
+    return _R(ev.env, ev.constants, ev.side, ev.clocks).scalar(cond)

@@ -1,8 +1,9 @@
-"""What a violation (or witness) of each assertion looks like, as a target for the engines.
+"""What a violation (or witness) of each assertion looks like, as targets for the engines.
 
-A `Query` names the machine to unroll and a `target(system, k)`: a formula over
-the first `k` steps that holds exactly when those steps end in a violation of
-the assertion (or, for `is reachable`, in a witness).  Assertion forms that are
+A `Query` names the element to unroll and a `target(system, k)`: a formula
+over the configuration at step `k` (and, for deadlock, the steps before it)
+that holds exactly when a run of `k` steps ends in a violation of the
+assertion (or, for `is reachable`, in a witness).  Assertion forms that are
 not supported yet raise `NotSupported` with the reason.
 """
 
@@ -13,7 +14,7 @@ from dataclasses import dataclass
 
 import z3
 
-from tockbmc.encodings.system import MachineSystem
+from tockbmc.encodings.system import System
 from tockbmc.model import ast
 
 
@@ -21,38 +22,65 @@ class NotSupported(Exception):
     """An assertion tockbmc cannot check yet; the message says why."""
 
 
-Target = Callable[[MachineSystem, int], z3.BoolRef]
+Target = Callable[[System, int], z3.BoolRef]
+
+
+@dataclass(frozen=True)
+class Goal:
+    """One search: a target and what reaching it (or proving it unreachable) means."""
+
+    target: Target
+    found: str  # verdict when the target is reached: "violated" or "holds"
+    not_found: str  # verdict when it is not reached within the bound: "holds" or "unknown"
+    unreachable: str  # verdict when it is proved unreachable at every depth
+    describe: Callable[[System, z3.ModelRef, int], str]  # what reaching the target means, for the report
+    stateless: bool = True  # the target reads only the configuration at k (so induction applies)
 
 
 @dataclass(frozen=True)
 class Query:
     assertion: ast.Assertion
-    machine: ast.StateMachine
-    target: Target
-    found: str  # verdict when the target is reached: "violated" or "holds"
-    not_found: str  # verdict when it is not reached within the bound: "holds" or "unknown"
-    describe: str  # what reaching the target means, for the report's last line
+    element: ast.StateMachine | ast.Controller | ast.Module
+    goals: tuple[Goal, ...]  # searched in order; the first that reaches its target decides
+    after: str = "holds"  # verdict when no goal's target is reached
+    after_reason: str = ""
 
 
-def _terminates(system: MachineSystem, k: int) -> z3.BoolRef:
-    if k == 0:
-        return z3.BoolVal(False)
-    ids = [e.index for e in system.automaton.edges if e.kind == "terminate"]
-    return z3.Or([system.action(k - 1) == i for i in ids]) if ids else z3.BoolVal(False)
+def terminated(system: System, k: int) -> z3.BoolRef:
+    return system.halted(k)
 
 
-def _timelock(system: MachineSystem, k: int) -> z3.BoolRef:
-    return z3.And(z3.Not(system.enabled_internal(k)), z3.Not(system.tock_enabled(k)))
+def timelocked(system: System, k: int) -> z3.BoolRef:
+    """A stable configuration that refuses tock (a terminated one included)."""
+    return z3.And(z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)))
+
+
+def stuck(system: System, k: int) -> z3.BoolRef:
+    """Not terminated, and refusing every event, tock included."""
+    return z3.And(z3.Not(system.halted(k)), z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)),
+                  z3.Not(system.event_offered(k)))
 
 
 def _reaches(state: str) -> Target:
-    def target(system: MachineSystem, k: int) -> z3.BoolRef:
-        locs = [loc.index for loc in system.automaton.locations
-                if any(a == state or a.endswith("::" + state) or state.endswith("::" + a) for a in loc.active)]
-        s = system.state(k)
-        return z3.Or([s.loc == i for i in locs]) if locs else z3.BoolVal(False)
+    def target(system: System, k: int) -> z3.BoolRef:
+        found = []
+        for c, comp in enumerate(system.components):
+            locs = [loc.index for loc in comp.automaton.locations if any(_names(a, state) for a in loc.active)]
+            found += [system.loc(c, k) == i for i in locs]
+        return z3.Or(found) if found else z3.BoolVal(False)
 
     return target
+
+
+def _names(path: str, state: str) -> bool:
+    """Whether node `path` (`a::b`) is the state an assertion calls `state` (maybe qualified)."""
+    return path == state or path.endswith("::" + state) or state.endswith("::" + path)
+
+
+def _what_refuses(system: System, model: z3.ModelRef, k: int) -> str:
+    if z3.is_true(model.eval(system.halted(k), model_completion=True)):
+        return f"{system.name} has terminated, so tock is refused"
+    return f"{system.name} refuses tock here"
 
 
 def query(project: ast.Project, a: ast.Assertion) -> Query:
@@ -65,27 +93,39 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         raise NotSupported("assertions over processes defined in CSP blocks need the CSP parser (next issue)")
     element_name = a.other if a.kind == "reachable" else a.subject
     element = _element(project, element_name or "")
-    if not isinstance(element, ast.StateMachine):
-        kind = type(element).__name__.lower() if element is not None else "element"
-        raise NotSupported(f"checking a {kind} needs the composition of machines, which is not encoded yet; "
-                           "state machines are checked on their own")
+    if element is None or isinstance(element, ast.OperationDef):
+        raise NotSupported(f"'{element_name}' is an operation; operations are checked through the machines "
+                           "that call them, which is not encoded yet")
+    name = element.name
+
+    def says(text: str) -> Callable[[System, z3.ModelRef, int], str]:
+        return lambda system, model, k: text
+
     if a.kind == "terminates":
+        stuck_goal = Goal(stuck, "violated", "holds", "holds", says(f"{name} has not terminated and refuses "
+                                                                  "every event, tock included"))
         if a.negated:
-            return Query(a, element, _terminates, "violated", "holds", f"{element.name} has terminated")
-        raise NotSupported("'terminates' needs a proof that termination is reachable; "
-                           "a bounded search alone gives no verdict")
+            return Query(a, element, (Goal(terminated, "violated", "holds", "holds", says(f"{name} has terminated")),))
+        reach = Goal(terminated, "holds", "unknown", "violated", says(f"{name} has terminated"))
+        return Query(a, element, (stuck_goal, reach))
     if a.kind == "timelock-free":
-        if a.negated:
-            return Query(a, element, _timelock, "holds", "unknown", f"{element.name} refuses tock here")
-        return Query(a, element, _timelock, "violated", "holds", f"{element.name} refuses tock here")
+        goal = Goal(timelocked, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
+                    "violated" if a.negated else "holds", _what_refuses)
+        return Query(a, element, (goal,))
+    if a.kind == "deadlock-free":
+        from tockbmc.properties.deadlock import deadlock_goals
+        return Query(a, element, deadlock_goals(name, a.negated))
     if a.kind == "reachable":
+        target = _reaches(a.subject)
         if a.negated:
-            return Query(a, element, _reaches(a.subject), "violated", "holds", f"state {a.subject} is entered")
-        return Query(a, element, _reaches(a.subject), "holds", "unknown", f"state {a.subject} is entered")
+            goal = Goal(target, "violated", "holds", "holds", says(f"state {a.subject} is entered"))
+        else:
+            goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"))
+        return Query(a, element, (goal,))
     raise NotSupported(f"'{a.kind}' assertions are not supported yet")
 
 
-def _element(project: ast.Project, name: str) -> object | None:
+def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef | None:
     for group in (project.machines, project.controllers, project.modules, project.operations):
         for item in group:
             if item.qname == name or item.name == name or item.qname.endswith("::" + name):
@@ -94,4 +134,11 @@ def _element(project: ast.Project, name: str) -> object | None:
         for m in c.machines:
             if name in (f"{c.qname}::{m.name}", f"{c.name}::{m.name}"):
                 return m.machine
+    for mod in project.modules:
+        for ci in mod.controllers:
+            if name in (f"{mod.qname}::{ci.name}", f"{mod.name}::{ci.name}"):
+                return ci.controller
+            for m in ci.controller.machines:
+                if name in (f"{mod.qname}::{ci.name}::{m.name}", f"{mod.name}::{ci.name}::{m.name}"):
+                    return m.machine
     return None

@@ -49,7 +49,8 @@ def print_results(results: list[Result], console: Console) -> None:
         head.append(f"   {r.text}", style="dim")
         console.print(head)
         if r.verdict == "holds":
-            console.print(Text(f"  holds for every run of up to {r.bound} steps; {_scope(r).split('; ')[1]}"))
+            console.print(Text(f"  {r.reason or f'holds for every run of up to {r.bound} steps'}; "
+                               f"{_scope(r).split('; ')[1]}"))
         elif r.reason and not r.trace:
             console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == "unsupported" else "")))
         if r.trace:

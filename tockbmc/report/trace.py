@@ -8,7 +8,8 @@ import z3
 
 from tockbmc.bmc.result import TraceStep
 from tockbmc.encodings.automaton import Edge
-from tockbmc.encodings.system import MachineSystem
+from tockbmc.encodings.composition import External
+from tockbmc.encodings.system import Move, System
 from tockbmc.encodings.values import Value, leaves
 from tockbmc.model import ast
 
@@ -39,68 +40,105 @@ def value_text(value: Value, model: z3.ModelRef, t: ast.Type) -> str:
     return scalar_text(value, model, t)
 
 
-def _event_name(system: MachineSystem, e: Edge, i: int, model: z3.ModelRef) -> str:
-    m = system.name
+def _edge_event(system: System, c: int, e: Edge, i: int, model: z3.ModelRef, link_name: str | None) -> str:
+    """FDR's name for a machine's visible step: `N::e.in.v`, `N::e.out.v`, `N::opCall.a`, `N::terminate`."""
     if e.kind == "terminate":
-        return f"{m}::terminate"
+        return f"{system.name}::terminate"
     if e.kind == "call":
         assert e.operation is not None
-        ev = system.evaluator(i)
+        ev = system.evaluator(c, i)
         args = [value_text(ev.value(a), model, a.type) for a in e.args]
-        return f"{m}::{e.operation.name}Call" + "".join(f".{a}" for a in args)
+        return f"{system.name}::{e.operation.name}Call" + "".join(f".{a}" for a in args)
     assert e.event is not None
+    name = link_name or system.network.visible_name(c, e.event.name)
     direction = "in" if e.kind == "in" else "out"
-    name = f"{m}::{e.event.name}.{direction}"
     if e.event.type is None:
-        return name
+        return f"{name}.{direction}"
     if e.kind == "in":
-        value = system.input(i, e.event)
+        value = system.chosen(f"in.{name}", e.event.type, i)
     else:
         assert e.value is not None
-        value = system.evaluator(i).value(e.value)
-    return f"{name}.{value_text(value, model, e.event.type)}"
+        value = system.evaluator(c, i).value(e.value)
+    return f"{name}.{direction}.{value_text(value, model, e.event.type)}"
 
 
-def _note(system: MachineSystem, e: Edge) -> str:
-    target = system.automaton.locations[e.target]
-    if e.kind == "wait":
-        return "wait starts"
-    if e.updates:
-        return "; ".join(f"{'.'.join([u.variable.name, *u.fields])} := …" for u in e.updates)
-    if e.transition:
-        return f"transition {e.transition}"
-    return target.description
+def _move_event(system: System, m: Move, i: int, model: z3.ModelRef) -> str:
+    if m.role in ("env-write", "env-read"):
+        assert m.link is not None
+        end = m.link.sender if m.role == "env-write" else m.link.receiver
+        assert isinstance(end, External)
+        direction = "in" if m.role == "env-write" else "out"
+        if end.event.type is None:
+            return f"{end.name}.{direction}"
+        value = (system.chosen(f"in.{end.name}", end.event.type, i) if m.role == "env-write"
+                 else system.value(f"buffer{m.link.index}.value", end.event.type, i))
+        return f"{end.name}.{direction}.{value_text(value, model, end.event.type)}"
+    c, e = m.parts[0]
+    return _edge_event(system, c, e, i, model, None)
 
 
-def decode(system: MachineSystem, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]:
+def _note(system: System, m: Move) -> str:
+    """What an internal step does, for the dimmed context lines."""
+    notes = []
+    for c, e in m.parts:
+        who = system.components[c].name
+        if e.kind == "wait":
+            notes.append(f"{who}: wait starts")
+        elif m.role == "sync" and e.kind == "out" and e.event is not None:
+            assert m.link is not None
+            notes.append(f"{who} sends {e.event.name}")
+        elif m.role == "write" and e.event is not None:
+            notes.append(f"{who}: {e.event.name} into buffer")
+        elif m.role == "read" and e.event is not None:
+            notes.append(f"{who}: {e.event.name} from buffer")
+        elif e.updates:
+            notes.append(f"{who}: " + "; ".join(f"{'.'.join([u.variable.name, *u.fields])} := …" for u in e.updates))
+        elif e.transition and e.kind != "out":
+            notes.append(f"{who}: transition {e.transition}")
+        else:
+            notes.append(f"{who}: {system.components[c].automaton.locations[e.target].description}")
+    return ", ".join(notes)
+
+
+def _state(system: System, c: int, loc: int) -> str:
+    """The innermost active state, or where the machine is when no state is active."""
+    location = system.components[c].automaton.locations[loc]
+    return location.active[-1] if location.active else location.description
+
+
+def _changed(system: System, model: z3.ModelRef, i: int) -> dict[str, str]:
+    """Variables whose value step i changed (at step 0: the initial values)."""
+    out = {}
+    before, after = system.frame(i), system.frame(i + 1)
+    for base, (t, initial, _c) in system.initial.items():
+        if i == 0 and initial is None:
+            continue  # arbitrary initial values are listed only when a step changes them
+        for path, _term in leaves(system.value(base, t, 0)):
+            name = base + path
+            new = model.eval(after[name], model_completion=True)
+            old = model.eval(before[name], model_completion=True)
+            if i == 0 or not z3.is_true(model.eval(new == old, model_completion=True)):
+                out[name] = scalar_text(after[name], model, _leaf_type(t, path))
+    return out
+
+
+def decode(system: System, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]:
     """The first `depth` steps of the run that `model` describes."""
     steps = []
-    locations = system.automaton.locations
     for i in range(depth):
-        act = model.eval(system.action(i), model_completion=True).as_long()
-        after = system.state(i + 1)
-        loc = model.eval(after.loc, model_completion=True).as_long()
-        active = locations[loc].active
-        state = active[-1] if active else locations[loc].description
-        changed = {}
-        before = system.state(i)
-        for v in system.variables:
-            for path, term in leaves(after.variables[id(v)], v.name):
-                old = dict(leaves(before.variables[id(v)], v.name))[path]
-                new_val = model.eval(term, model_completion=True)
-                if not model.eval(new_val == model.eval(old, model_completion=True), model_completion=True) or i == 0:
-                    leaf_type = _leaf_type(v.type, path[len(v.name):])
-                    if i > 0 or v.initial is not None:
-                        changed[path] = scalar_text(term, model, leaf_type)
-        if act == system.TOCK:
-            steps.append(TraceStep(i + 1, "tock", "tock", "", {system.name: state}, changed))
-            continue
-        e = system.automaton.edges[act]
-        if e.kind in ("tau", "wait"):
-            steps.append(TraceStep(i + 1, None, "internal", _note(system, e), {system.name: state}, changed))
+        index = model.eval(system.action(i), model_completion=True).as_long()
+        m = system.moves[index]
+        states = {comp.name: _state(system, c, model.eval(system.loc(c, i + 1), model_completion=True).as_long())
+                  for c, comp in enumerate(system.components)}
+        changed = _changed(system, model, i)
+        if m.kind == "tock":
+            steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed))
+        elif m.kind == "internal":
+            steps.append(TraceStep(i + 1, None, "internal", _note(system, m), states, changed))
         else:
-            steps.append(TraceStep(i + 1, _event_name(system, e, i, model), "event", e.transition or "",
-                                   {system.name: state}, changed))
+            transition = next((e.transition for _, e in m.parts if e.transition), "")
+            steps.append(TraceStep(i + 1, _move_event(system, m, i, model), "event", transition or "",
+                                   states, changed))
     return tuple(steps)
 
 

@@ -1,0 +1,236 @@
+"""Flatten a machine, controller or module into a network of machine automata joined by links.
+
+`semantics.md` §2.12–13: a connection between two machines is a hidden joint
+step (synchronous) or a one-place overwriting buffer (`_async`); a connection
+to the enclosing controller's or module's own event, or to the platform, is a
+visible event named after that outer element.  Shared variables are the
+variables a controller declares or a platform provides, and that machines
+require by name.  The network is plain data; `system.py` turns it into Z3.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from tockbmc.encodings.automaton import Automaton, Unsupported, compile_machine
+from tockbmc.model import ast
+
+
+@dataclass(frozen=True)
+class Port:
+    """Event `event` of component number `component`."""
+
+    component: int
+    event: ast.Event
+
+
+@dataclass(frozen=True)
+class External:
+    """The environment's end of a link: a visible event such as `Ctrl::e` or `Mod::e`."""
+
+    name: str
+    event: ast.Event
+
+
+@dataclass(frozen=True)
+class Link:
+    """A connection, flattened: `sender` outputs what `receiver` inputs."""
+
+    index: int
+    sender: Port | External
+    receiver: Port | External
+    asynchronous: bool
+    pos: ast.Pos
+
+    def port_of(self, component: int, event: str) -> str | None:
+        """'sender' or 'receiver' when this link ends at that component's event."""
+        for role, end in (("sender", self.sender), ("receiver", self.receiver)):
+            if isinstance(end, Port) and end.component == component and end.event.name == event:
+                return role
+        return None
+
+
+@dataclass(frozen=True)
+class Component:
+    """One machine of the network; `name` is how traces refer to it."""
+
+    name: str
+    automaton: Automaton
+
+    @property
+    def machine(self) -> ast.StateMachine:
+        return self.automaton.machine
+
+
+@dataclass(frozen=True)
+class Network:
+    """The element checked: its machines, its links, and what the machines share."""
+
+    name: str  # the element's name: visible calls and `terminate` are named after it
+    components: tuple[Component, ...]
+    links: tuple[Link, ...]
+    shared: dict[str, ast.Variable] = field(default_factory=dict)  # shared variables and constants, by name
+
+    def route(self, component: int, event: str) -> tuple[Link, str] | None:
+        """The link that carries a component's event, and which end the component is."""
+        for link in self.links:
+            role = link.port_of(component, event)
+            if role is not None:
+                return link, role
+        return None
+
+    def visible_name(self, component: int, event: str) -> str:
+        """FDR's name for a component's event that the environment sees directly."""
+        found = self.route(component, event)
+        if found is not None:
+            link, role = found
+            other = link.receiver if role == "sender" else link.sender
+            assert isinstance(other, External)
+            return other.name
+        return f"{self.components[component].machine.name}::{event}"
+
+
+class _Flattener:
+    def __init__(self, name: str):
+        self.name = name
+        self.components: list[Component] = []
+        self.links: list[Link] = []
+        self.shared: dict[str, ast.Variable] = {}
+
+    def machine(self, m: ast.StateMachine, instance: str) -> int:
+        self.components.append(Component(instance, compile_machine(m)))
+        return len(self.components) - 1
+
+    def link(self, sender: Port | External, receiver: Port | External, asynchronous: bool, pos: ast.Pos) -> None:
+        for end in (sender, receiver):
+            if isinstance(end, Port) and any(
+                    link.port_of(end.component, end.event.name) for link in self.links):
+                raise Unsupported(pos, f"event '{end.event.name}' of "
+                                       f"{self.components[end.component].name} is in two connections; "
+                                       "one-to-many connections are not encoded yet")
+        self.links.append(Link(len(self.links), sender, receiver, asynchronous, pos))
+
+    def share(self, variables: tuple[ast.Variable, ...]) -> None:
+        for v in variables:
+            self.shared.setdefault(v.name, v)
+
+    def controller(self, c: ast.Controller, prefix: str) -> tuple[dict[str, list[tuple[Port, bool]]],
+                                                                  dict[str, list[tuple[Port, bool]]]]:
+        """Add a controller's machines and internal links.
+
+        Returns, per event of the controller, the machine ports behind it:
+        (inputs: controller event → receiving ports, outputs: sending ports),
+        each with whether that inner connection is asynchronous.
+        """
+        if c.operations:
+            op = c.operations[0]
+            raise Unsupported(op.pos, "defined operations inside controllers are not encoded yet")
+        names = [mi.machine.name for mi in c.machines]
+        index: dict[str, int] = {}
+        for mi in c.machines:
+            label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
+            index[mi.name] = self.machine(mi.machine, f"{prefix}{label}")
+        self.share(c.variables)
+        inputs: dict[str, list[tuple[Port, bool]]] = {}
+        outputs: dict[str, list[tuple[Port, bool]]] = {}
+        for conn in c.connections:
+            if conn.bidirectional:
+                raise Unsupported(conn.pos, "bidirectional connections are not encoded yet")
+            src = index.get(conn.source)
+            dst = index.get(conn.target)
+            if src is not None and dst is not None:
+                self.link(Port(src, conn.source_event), Port(dst, conn.target_event), conn.asynchronous, conn.pos)
+            elif dst is not None:
+                inputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), conn.asynchronous))
+            elif src is not None:
+                outputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), conn.asynchronous))
+            else:
+                raise Unsupported(conn.pos, "a connection that joins no state machine")
+        return inputs, outputs
+
+    def expose(self, outer: str, event: ast.Event, ports: list[tuple[Port, bool]], incoming: bool,
+               asynchronous: bool, pos: ast.Pos) -> None:
+        """Join the machine ports behind an event to the visible event `outer::event`."""
+        external = External(f"{outer}::{event.name}", event)
+        for port, inner_async in ports:
+            if asynchronous and inner_async:
+                raise Unsupported(pos, "two asynchronous connections in series are not encoded yet")
+            if incoming:
+                self.link(external, port, asynchronous or inner_async, pos)
+            else:
+                self.link(port, external, asynchronous or inner_async, pos)
+
+    def network(self) -> Network:
+        return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared))
+
+
+def of_machine(m: ast.StateMachine) -> Network:
+    """A machine on its own: every event visible under the machine's name."""
+    f = _Flattener(m.name)
+    f.machine(m, m.name)
+    return f.network()
+
+
+def of_controller(c: ast.Controller) -> Network:
+    """A controller: machines joined by its connections; its own events visible as `C::e`."""
+    f = _Flattener(c.name)
+    inputs, outputs = f.controller(c, "")
+    for name, ports in inputs.items():
+        event = c.event(name)
+        assert event is not None
+        f.expose(c.name, event, ports, True, False, ports[0][0].event.pos)
+    for name, ports in outputs.items():
+        event = c.event(name)
+        assert event is not None
+        f.expose(c.name, event, ports, False, False, ports[0][0].event.pos)
+    return f.network()
+
+
+def of_module(m: ast.Module) -> Network:
+    """A module: its controllers joined to each other and to the platform (visible as `Mod::e`)."""
+    f = _Flattener(m.name)
+    if m.platform is not None:
+        f.share(m.platform.variables)
+    ends: dict[str, tuple[ast.Controller, dict, dict]] = {}
+    for ci in m.controllers:
+        prefix = f"{ci.name}::" if len(m.controllers) > 1 else ""
+        ins, outs = f.controller(ci.controller, prefix)
+        ends[ci.name] = (ci.controller, ins, outs)
+    used: set[tuple[str, str]] = set()
+    for conn in m.connections:
+        if conn.bidirectional:
+            raise Unsupported(conn.pos, "bidirectional connections are not encoded yet")
+        src, dst = ends.get(conn.source), ends.get(conn.target)
+        if src is not None and dst is not None:
+            used |= {(conn.source, conn.source_event.name), (conn.target, conn.target_event.name)}
+            for p, a in src[2].get(conn.source_event.name, []):
+                for q, b in dst[1].get(conn.target_event.name, []):
+                    if [a, b, conn.asynchronous].count(True) > 1:
+                        raise Unsupported(conn.pos, "two asynchronous connections in series are not encoded yet")
+                    f.link(p, q, a or b or conn.asynchronous, conn.pos)
+        elif dst is not None:  # platform → controller
+            used.add((conn.target, conn.target_event.name))
+            f.expose(m.name, conn.source_event, dst[1].get(conn.target_event.name, []), True,
+                     conn.asynchronous, conn.pos)
+        elif src is not None:  # controller → platform
+            used.add((conn.source, conn.source_event.name))
+            f.expose(m.name, conn.target_event, src[2].get(conn.source_event.name, []), False,
+                     conn.asynchronous, conn.pos)
+    # Controller events the module leaves unconnected stay visible under the controller's name.
+    for name, (c, ins, outs) in ends.items():
+        for table, incoming in ((ins, True), (outs, False)):
+            for ev_name, ports in table.items():
+                if (name, ev_name) not in used:
+                    event = c.event(ev_name)
+                    assert event is not None
+                    f.expose(c.name, event, ports, incoming, False, c.pos)
+    return f.network()
+
+
+def network_of(element: ast.StateMachine | ast.Controller | ast.Module) -> Network:
+    """The network of a machine, controller or module."""
+    if isinstance(element, ast.StateMachine):
+        return of_machine(element)
+    if isinstance(element, ast.Controller):
+        return of_controller(element)
+    return of_module(element)
