@@ -41,8 +41,49 @@ def time_only(system: System, k: int) -> z3.BoolRef:
     return z3.And(z3.Not(system.halted(k)), system.tock_enabled(k), *calm, _nothing_ever(system, k))
 
 
+def may_diverge(system: System) -> bool:
+    """Whether some machine has a cycle of steps that can be internal; without one, no run diverges.
+
+    A cycle of internal moves returns every machine that took part to where it
+    was, so at least one machine has a cycle of its own among those edges.
+    """
+    for c in range(len(system.components)):
+        graph: dict[int, set[int]] = {}
+        for m in system.moves:
+            if m.kind == "internal":
+                for cc, e in m.parts:
+                    if cc == c:
+                        graph.setdefault(e.source, set()).add(e.target)
+        if _has_cycle(graph):
+            return True
+    return False
+
+
+def _has_cycle(graph: dict[int, set[int]]) -> bool:
+    done: set[int] = set()
+    for root in graph:
+        if root in done:
+            continue
+        path, stack = {root}, [(root, iter(graph.get(root, ())))]
+        while stack:
+            node, children = stack[-1]
+            child = next(children, None)
+            if child is None:
+                stack.pop()
+                path.discard(node)
+                done.add(node)
+            elif child in path:
+                return True
+            elif child not in done:
+                path.add(child)
+                stack.append((child, iter(graph.get(child, ()))))
+    return False
+
+
 def diverges(system: System, k: int) -> z3.BoolRef:
     """The configuration at k repeats one at j < k, with only internal steps in between."""
+    if not may_diverge(system):
+        return z3.BoolVal(False)
     internal = [m.index for m in system.moves if m.kind == "internal"]
     loops = []
     for j in range(k):

@@ -106,18 +106,18 @@ def _state(system: System, c: int, loc: int) -> str:
     return location.active[-1] if location.active else location.description
 
 
-def _changed(system: System, model: z3.ModelRef, i: int) -> dict[str, str]:
-    """Variables whose value step i changed (at step 0: the initial values)."""
+def _changed(system: System, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]:
+    """Variables that step i wrote or changed (at step 0 also the declared initial values)."""
     out = {}
     before, after = system.frame(i), system.frame(i + 1)
+    written = set(system.effect(m, i).post)
     for base, (t, initial, _c) in system.initial.items():
-        if i == 0 and initial is None:
-            continue  # arbitrary initial values are listed only when a step changes them
         for path, _term in leaves(system.value(base, t, 0)):
             name = base + path
             new = model.eval(after[name], model_completion=True)
             old = model.eval(before[name], model_completion=True)
-            if i == 0 or not z3.is_true(model.eval(new == old, model_completion=True)):
+            if (name in written or (i == 0 and initial is not None)
+                    or not z3.is_true(model.eval(new == old, model_completion=True))):
                 out[name] = scalar_text(after[name], model, _leaf_type(t, path))
     return out
 
@@ -130,7 +130,7 @@ def decode(system: System, model: z3.ModelRef, depth: int) -> tuple[TraceStep, .
         m = system.moves[index]
         states = {comp.name: _state(system, c, model.eval(system.loc(c, i + 1), model_completion=True).as_long())
                   for c, comp in enumerate(system.components)}
-        changed = _changed(system, model, i)
+        changed = _changed(system, model, i, m)
         if m.kind == "tock":
             steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed))
         elif m.kind == "internal":

@@ -1,0 +1,55 @@
+"""Rendered counterexample traces compared with reviewed golden files under `tests/golden/`.
+
+Ranges pin every value the environment supplies, so each trace is unique.
+Regenerate after an intended change with `UPDATE_GOLDEN=1 python -m pytest tests/test_golden_traces.py`
+and review the diff as text.
+"""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from conftest import CONFORMANCE, EXAMPLE
+from rich.console import Console
+
+from tockbmc import load
+from tockbmc.check import check
+from tockbmc.encodings.values import Range, Ranges
+from tockbmc.report.results import print_trace
+
+GOLDEN = Path(__file__).parent / "golden"
+
+
+def _pin(**values: int) -> Ranges:
+    return Ranges({k: Range(Fraction(v), Fraction(v)) for k, v in values.items()})
+
+
+CASES = {
+    # A machine on its own: the paper's A5 with a move request of time -1.
+    "exax_a5": (EXAMPLE, "A5", _pin(core_int=-1, core_real=0)),
+    # A controller: its event e, connected to STM1, is visible as C1::e.
+    "controller_c1_term": (CONFORMANCE / "robochart" / "test-core-assertions", "C1_term", _pin(core_nat=2)),
+    # A module: the platform's e goes through an (_async) buffer, read internally.
+    "module_m_term": (CONFORMANCE / "robochart" / "test-core-assertions", "M_term", _pin(core_nat=2)),
+}
+
+
+def render(path: Path, name: str, ranges: Ranges) -> str:
+    [r] = check(load(path), [name], bound=12, ranges=ranges)
+    assert r.verdict == "violated"
+    console = Console(record=True, width=240, color_system=None, file=open(os.devnull, "w"))
+    print_trace(r, console)
+    return console.export_text()
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_trace_matches_golden_file(case: str) -> None:
+    path, name, ranges = CASES[case]
+    text = render(path, name, ranges)
+    golden = GOLDEN / f"{case}.txt"
+    if os.environ.get("UPDATE_GOLDEN"):
+        golden.write_text(text)
+    assert text == golden.read_text()
