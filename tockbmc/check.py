@@ -20,16 +20,19 @@ DEFAULT_BOUND = 40
 
 def check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
           ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
-          timeout: float | None = None) -> list[Result]:
-    """One `Result` per selected assertion (all by default), in file order."""
+          timeout: float | None = None, induction: bool = True) -> list[Result]:
+    """One `Result` per selected assertion (all by default), in file order.
+
+    `induction=False` leaves BMC alone (to measure it); verdicts within the bound are the same.
+    """
     ranges = ranges or Ranges()
     wanted = set(names) if names is not None else None
-    return [check_assertion(project, a, bound, ranges, settings or {}, timeout)
+    return [check_assertion(project, a, bound, ranges, settings or {}, timeout, induction)
             for a in project.assertions if wanted is None or a.name in wanted]
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
-                    settings: dict[str, ast.Expr], timeout: float | None) -> Result:
+                    settings: dict[str, ast.Expr], timeout: float | None, induction: bool = True) -> Result:
     """The verdict of one assertion: its goals searched in order (see `properties.queries.Query`)."""
     start = time.perf_counter()
     described = ranges.describe()
@@ -49,20 +52,24 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
             system = System(network, ranges, consts)
-            induction = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless else None
+            induction = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless and induction else None
             outcome = bmc(system, goal.target, bound, remaining, induction)
             if outcome.status == "unknown":
                 return result("unknown", outcome.reason)
             if outcome.status == "found":
                 assert outcome.model is not None
                 trace = decode(system, outcome.model, outcome.depth)
-                return result(goal.found, goal.describe(system, outcome.model, outcome.depth), trace=trace)
+                why = goal.describe(system, outcome.model, outcome.depth)
+                if goal.found == "holds" and reasons:  # earlier goals found nothing wrong
+                    why = "; ".join([*reasons, f"witness: {why}"])
+                return result(goal.found, why, trace=trace)
             if outcome.status == "proved":
                 verdict = goal.unreachable
-                why = (f"shown for runs of every length, not only up to {bound} steps: {outcome.reason}"
-                       if verdict == "holds" else f"no run of any length reaches it: {outcome.reason}")
+                why = (f"{goal.claim}, shown for runs of every length, not only up to {bound} steps "
+                       f"({outcome.reason})" if verdict == "holds"
+                       else f"no run of any length reaches it ({outcome.reason})")
             elif goal.not_found == "holds":
-                verdict, why = "holds", f"no run of up to {bound} steps reaches a violation"
+                verdict, why = "holds", f"{goal.claim} within {bound} steps"
             else:
                 verdict, why = "unknown", f"not found within {bound} steps; a bounded search alone gives no verdict"
             if verdict != "holds":

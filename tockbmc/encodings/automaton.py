@@ -73,6 +73,8 @@ class Edge:
     wait_high: ast.Expr | None = None
     transition: str | None = None  # name of the transition this step belongs to
     negated_guards: tuple[tuple[ast.Expr, ...], ...] = ()  # for `else`: none of these holds
+    ends_wait: bool = False  # leaves a `wait` once its tocks have passed
+    exits: tuple[str, ...] = ()  # on a transition's first step: the states it leaves
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,7 @@ class TriggerDeadline:
     condition true, it must be taken within `bound` tocks (§2.11)."""
 
     transition: str
+    source: str
     bound: ast.Expr
     condition: ast.Expr | None
     armed: frozenset[int]
@@ -163,6 +166,10 @@ class _Builder:
         for t in self.m.transitions:
             if t.deadline is not None and t.is_else:
                 raise Unsupported(t.deadline.pos, "deadlines on 'else' transitions are not encoded yet")
+            if t.deadline is not None and t.trigger is not None and t.trigger.variable is not None \
+                    and _reads(t.condition, t.trigger.variable):
+                raise Unsupported(t.deadline.pos, "a deadline on a transition whose condition reads its "
+                                                  "input is not encoded yet")
             self._check_stmt(t.action)
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
@@ -243,7 +250,7 @@ class _Builder:
                             armed.setdefault(t.name, set()).add(loc)
         for t in self.m.transitions:
             if t.deadline is not None and t.name in armed:
-                self.a.trigger_deadlines.append(TriggerDeadline(t.name, t.deadline, t.condition,
+                self.a.trigger_deadlines.append(TriggerDeadline(t.name, t.source, t.deadline, t.condition,
                                                                 frozenset(armed[t.name])))
         return self.a
 
@@ -279,7 +286,9 @@ class _Builder:
         taken = self.a.location(f"taking {t.name}", active)
         trig = t.trigger
         resets = tuple(c.name for c in t.clock_resets)
-        common = dict(guard=guard, negated_guards=negated, resets=resets, transition=t.name)
+        shared = self._common(t.source, t.target)
+        exits = tuple(x for x in active if x not in shared)
+        common = dict(guard=guard, negated_guards=negated, resets=resets, transition=t.name, exits=exits)
         if trig is None:
             self.a.edge(here, taken, "tau", **common)
         elif trig.kind == "output":
@@ -287,7 +296,6 @@ class _Builder:
         else:
             self.a.edge(here, taken, "in", event=trig.event, binds=trig.variable, value=trig.value, **common)
         cur = taken
-        shared = self._common(t.source, t.target)
         remaining = list(active)
         for s in reversed(active):
             if s in shared:
@@ -401,7 +409,7 @@ class _Builder:
         elif isinstance(s, ast.Wait):
             waiting = self.a.location(f"{where}: waiting", active, "waiting", self._in_deadline)
             self.a.edge(cur, waiting, "wait", wait_low=s.low, wait_high=s.high)
-            self.a.edge(waiting, nxt, "tau", transition="wait over")
+            self.a.edge(waiting, nxt, "tau", transition="wait over", ends_wait=True)
         elif isinstance(s, ast.If):
             then_start = self.a.location(where, active, deadline=self._in_deadline)
             else_start = self.a.location(where, active, deadline=self._in_deadline)
@@ -412,6 +420,17 @@ class _Builder:
         else:
             raise Unsupported(s.pos, f"statement {type(s).__name__}")
         return nxt
+
+
+def _reads(e: object, v: ast.Variable) -> bool:
+    """Whether expression `e` reads variable `v`."""
+    if isinstance(e, ast.VarRef):
+        return e.variable is v
+    if isinstance(e, ast.Expr):
+        return any(_reads(getattr(e, f.name), v) for f in dataclasses.fields(e))
+    if isinstance(e, tuple):
+        return any(_reads(x, v) for x in e)
+    return False
 
 
 def compile_machine(machine: ast.StateMachine) -> Automaton:

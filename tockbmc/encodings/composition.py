@@ -69,7 +69,10 @@ class Network:
     name: str  # the element's name: visible calls and `terminate` are named after it
     components: tuple[Component, ...]
     links: tuple[Link, ...]
-    shared: dict[str, ast.Variable] = field(default_factory=dict)  # shared variables and constants, by name
+    # Shared variables and constants by scope key (`Ctrl.v` for a controller's, `v` for a platform's),
+    # and, per (component, name) of a variable the machine requires, the key it shares.
+    shared: dict[str, ast.Variable] = field(default_factory=dict)
+    scopes: dict[tuple[int, str], str] = field(default_factory=dict)
 
     def route(self, component: int, event: str) -> tuple[Link, str] | None:
         """The link that carries a component's event, and which end the component is."""
@@ -96,6 +99,8 @@ class _Flattener:
         self.components: list[Component] = []
         self.links: list[Link] = []
         self.shared: dict[str, ast.Variable] = {}
+        self.scopes: dict[tuple[int, str], str] = {}
+        self.platform: set[str] = set()
 
     def machine(self, m: ast.StateMachine, instance: str) -> int:
         self.components.append(Component(instance, compile_machine(m)))
@@ -110,9 +115,24 @@ class _Flattener:
                                        "one-to-many connections are not encoded yet")
         self.links.append(Link(len(self.links), sender, receiver, asynchronous, pos))
 
-    def share(self, variables: tuple[ast.Variable, ...]) -> None:
+    def share(self, variables: tuple[ast.Variable, ...], scope: str) -> None:
         for v in variables:
-            self.shared.setdefault(v.name, v)
+            self.shared.setdefault(f"{scope}{v.name}", v)
+
+    def require(self, c: int, m: ast.StateMachine, controller: str) -> None:
+        """Bind the variables machine c requires to its controller's, else the platform's (§2.13).
+
+        A variable of an interface the machine provides is its own.  One that no
+        enclosing element declares is shared by the controller's machines.
+        """
+        for v in m.interface_variables:
+            if v.owner in m.provided_interfaces or v.owner.rsplit("::", 1)[-1] in m.provided_interfaces:
+                continue
+            key = f"{controller}.{v.name}"
+            if key not in self.shared and v.name in self.platform:
+                key = v.name
+            self.shared.setdefault(key, v)
+            self.scopes[(c, v.name)] = key
 
     def controller(self, c: ast.Controller, prefix: str) -> tuple[dict[str, list[tuple[Port, bool]]],
                                                                   dict[str, list[tuple[Port, bool]]]]:
@@ -127,10 +147,11 @@ class _Flattener:
             raise Unsupported(op.pos, "defined operations inside controllers are not encoded yet")
         names = [mi.machine.name for mi in c.machines]
         index: dict[str, int] = {}
+        self.share(c.variables, f"{prefix}{c.name}.")
         for mi in c.machines:
             label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
             index[mi.name] = self.machine(mi.machine, f"{prefix}{label}")
-        self.share(c.variables)
+            self.require(index[mi.name], mi.machine, f"{prefix}{c.name}")
         inputs: dict[str, list[tuple[Port, bool]]] = {}
         outputs: dict[str, list[tuple[Port, bool]]] = {}
         for conn in c.connections:
@@ -161,7 +182,7 @@ class _Flattener:
                 self.link(port, external, asynchronous or inner_async, pos)
 
     def network(self) -> Network:
-        return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared))
+        return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared), dict(self.scopes))
 
 
 def of_machine(m: ast.StateMachine) -> Network:
@@ -190,7 +211,8 @@ def of_module(m: ast.Module) -> Network:
     """A module: its controllers joined to each other and to the platform (visible as `Mod::e`)."""
     f = _Flattener(m.name)
     if m.platform is not None:
-        f.share(m.platform.variables)
+        f.share(m.platform.variables, "")
+        f.platform = {v.name for v in m.platform.variables}
     ends: dict[str, tuple[ast.Controller, dict, dict]] = {}
     for ci in m.controllers:
         prefix = f"{ci.name}::" if len(m.controllers) > 1 else ""

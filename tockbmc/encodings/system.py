@@ -50,6 +50,7 @@ class _Effect:
     choose: list[z3.BoolRef]  # constraints on values chosen in the step (inputs, wait lengths)
     post: dict[str, z3.ExprRef]  # scalars the step changes
     chosen: list[z3.ExprRef]  # the values the environment chooses (event inputs)
+    side: list[z3.BoolRef]  # function axioms instantiated at the calls this step makes
 
 
 class System:
@@ -74,6 +75,7 @@ class System:
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
         self._effects: dict[tuple[int, int], _Effect] = {}
         self._halted: dict[int, z3.BoolRef] = {}
+        self._side_seen: set[int] = set()
         self._declare()
         self.moves = self._moves()
         self.TOCK = len(self.moves) - 1
@@ -104,22 +106,22 @@ class System:
             for v in (*m.variables, *m.interface_variables):
                 if v.type == ast.STRING:
                     raise Unsupported(v.pos, "string variables are not encoded yet")
-                shared = v.kind == "interface"
+                # A required variable is shared under its scope key; anything else is the machine's own.
+                key = self.network.scopes.get((c, v.name)) if v.kind == "interface" else None
+                decl = self.network.shared.get(key, v) if key is not None else v
                 if v.constant:
-                    if shared and v.name in shared_consts:
-                        consts[id(v)] = shared_consts[v.name]
+                    if key is not None and key in shared_consts:
+                        consts[id(v)] = shared_consts[key]
                         continue
-                    owner = self.network.shared.get(v.name) if shared else v
-                    consts[id(v)] = self._constant(v, owner or v, v.name if shared else f"{comp.name}::{v.name}")
-                    if shared:
-                        shared_consts[v.name] = consts[id(v)]
+                    consts[id(v)] = self._constant(v, decl, key or f"{comp.name}::{v.name}")
+                    if key is not None:
+                        shared_consts[key] = consts[id(v)]
                     continue
-                base = v.name if shared else f"{comp.name}.{v.name}"
+                base = key or f"{comp.name}.{v.name}"
                 slots[id(v)] = (base, v.type)
                 if base not in self.initial:
                     self._scalars(base, v.type)
-                    decl = self.network.shared.get(v.name) if shared else v
-                    self.initial[base] = (v.type, decl.initial if decl is not None else None, c)
+                    self.initial[base] = (v.type, decl.initial, c)
             self.slots[c] = slots
             self.constants[c] = consts
         for link in self.network.links:
@@ -251,7 +253,7 @@ class System:
         enabled += [ev.scalar(g) for g in e.guard]
         for group in e.negated_guards:
             enabled.append(z3.Not(z3.And([ev.scalar(g) for g in group])))
-        if comp.automaton.locations[e.source].kind == "waiting":
+        if e.ends_wait:
             enabled.append(f[f"{comp.name}.wait"] == 0)
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
         # Updates in order, each reading the values the previous ones wrote.
@@ -278,7 +280,7 @@ class System:
         if e.deadline is not None:
             post[f"{comp.name}.deadline"] = ev.scalar(e.deadline)  # type: ignore[assignment]
         for td in comp.automaton.trigger_deadlines:
-            if e.target not in td.armed:
+            if e.target not in td.armed or td.source in e.exits:
                 post[f"{comp.name}.armed.{td.transition}"] = z3.IntVal(0)
         return enabled, choose, sent
 
@@ -292,12 +294,15 @@ class System:
         """What taking move m at step i requires and changes."""
         key = (m.index, i)
         if key not in self._effects:
-            self._effects[key] = self._effect(m, i)
+            before = len(self.side)
+            eff = self._effect(m, i)
+            eff.side = self.side[before:]
+            self._effects[key] = eff
         return self._effects[key]
 
     def _effect(self, m: Move, i: int) -> _Effect:
         if m.role == "tock":
-            return _Effect([self.tock_enabled(i)], [], self._tock_post(i), [])
+            return _Effect([self.tock_enabled(i)], [], self._tock_post(i), [], [])
         post: dict[str, z3.ExprRef] = {}
         inputs: list[z3.ExprRef] = []
         enabled: list[z3.BoolRef] = [z3.Not(self.halted(i))]
@@ -351,7 +356,7 @@ class System:
             assert link is not None
             enabled.append(self.frame(i)[f"buffer{link.index}.full"])  # type: ignore[arg-type]
             post[f"buffer{link.index}.full"] = z3.BoolVal(False)
-        return _Effect(enabled, choose, post, inputs)
+        return _Effect(enabled, choose, post, inputs, [])
 
     def _buffer(self, link: Link, i: int) -> Value | None:
         t = _end_event(link).type
@@ -400,6 +405,8 @@ class System:
         """Move m is possible at step i; for a visible input, for some value the environment may offer."""
         eff = self.effect(m, i)
         if eff.chosen:
+            if eff.side:  # the function axioms must hold at every value, not only at the one chosen
+                self.side.append(z3.ForAll(eff.chosen, z3.And(eff.side)))
             return z3.Exists(eff.chosen, z3.And(eff.enabled + eff.choose))
         return z3.And(eff.enabled)
 
@@ -470,7 +477,9 @@ class System:
 
     def side_constraints(self) -> list[z3.BoolRef]:
         """Constraints added by calls of uninterpreted functions; collect after building formulas."""
-        out, self.side[:] = list(self.side), []
+        out = [c for c in self.side if c.get_id() not in self._side_seen]
+        self._side_seen.update(c.get_id() for c in out)
+        self.side[:] = []
         return out
 
 

@@ -210,16 +210,30 @@ class Evaluator:
         args = [self.value(a) for a in e.args]
         if f.definition is not None:
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side)
-            return inner.value(f.definition)
+            defined = inner.value(f.definition)
+            if not f.preconditions:
+                return defined
+            # Outside its preconditions the function is not defined: any value is possible there.
+            if isinstance(defined, dict):
+                raise Unsupported(e.pos, "functions over records with preconditions are not encoded yet")
+            sorts = [sort_of(p.type) for p in f.parameters]
+            anything = z3.Function(f"{f.qname}.outside", *sorts, sort_of(f.result))
+            args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
+            pre = z3.And([inner.scalar(c) for c in f.preconditions])
+            return z3.If(pre, defined, anything(*args))
         # Uninterpreted: any function meeting its pre/postconditions.
         if isinstance(f.result, ast.RecordType) or any(isinstance(a, dict) for a in args):
             raise Unsupported(e.pos, "uninterpreted functions over records are not encoded yet")
-        fn = z3.Function(f.qname, *[a.sort() for a in args], sort_of(f.result))  # type: ignore[union-attr]
+        sorts = [sort_of(p.type) for p in f.parameters]
+        fn = z3.Function(f.qname, *sorts, sort_of(f.result))
+        args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
         result = fn(*args)
-        binding = {id(p): a for p, a in zip(f.parameters, args)}
-        post = Evaluator(binding, {}, self.side)
-        for cond in f.postconditions:
-            self.side.append(_with_result(post, cond, result))
+        # The axiom `pre => post`, instantiated at this call: exact, since only called points matter.
+        ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side)
+        pre = [ev.scalar(c) for c in f.preconditions]
+        post = [_with_result(ev, c, result) for c in f.postconditions]
+        if post:
+            self.side.append(z3.Implies(z3.And(pre), z3.And(post)))
         return result
 
 

@@ -35,6 +35,7 @@ class Goal:
     unreachable: str  # verdict when it is proved unreachable at every depth
     describe: Callable[[System, z3.ModelRef, int], str]  # what reaching the target means, for the report
     stateless: bool = True  # the target reads only the configuration at k (so induction applies)
+    claim: str = "no run reaches a violation"  # what not reaching the target shows
 
 
 @dataclass(frozen=True)
@@ -65,16 +66,26 @@ def _reaches(state: str) -> Target:
     def target(system: System, k: int) -> z3.BoolRef:
         found = []
         for c, comp in enumerate(system.components):
-            locs = [loc.index for loc in comp.automaton.locations if any(_names(a, state) for a in loc.active)]
+            locs = [loc.index for loc in comp.automaton.locations
+                    if any(_names(a, state, comp.name, comp.machine.name) for a in loc.active)]
             found += [system.loc(c, k) == i for i in locs]
         return z3.Or(found) if found else z3.BoolVal(False)
 
     return target
 
 
-def _names(path: str, state: str) -> bool:
-    """Whether node `path` (`a::b`) is the state an assertion calls `state` (maybe qualified)."""
-    return path == state or path.endswith("::" + state) or state.endswith("::" + path)
+def _names(path: str, state: str, *component: str) -> bool:
+    """Whether node `path` (`a::b`) of a component is the state an assertion calls `state`.
+
+    `state` is the node's path, maybe qualified by names that end with the component's
+    (`stm0::s`, `ctrl0::stm0::s`, `pkg::ctrl0::stm0::s`).
+    """
+    if path == state:
+        return True
+    if not state.endswith("::" + path):
+        return False
+    qualifier = state[: -len(path) - 2].rsplit("::", 1)[-1]
+    return any(qualifier == name.rsplit("::", 1)[-1] for name in component)
 
 
 def _what_refuses(system: System, model: z3.ModelRef, k: int) -> str:
@@ -103,7 +114,8 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
 
     if a.kind == "terminates":
         stuck_goal = Goal(stuck, "violated", "holds", "holds", says(f"{name} has not terminated and refuses "
-                                                                  "every event, tock included"))
+                                                                  "every event, tock included"),
+                          claim="no configuration short of termination refuses every event")
         if a.negated:
             return Query(a, element, (Goal(terminated, "violated", "holds", "holds", says(f"{name} has terminated")),))
         reach = Goal(terminated, "holds", "unknown", "violated", says(f"{name} has terminated"))

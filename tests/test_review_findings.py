@@ -1,0 +1,79 @@
+"""Regression tests for soundness problems found in review, each a tiny model with a hand-derived verdict."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+from test_semantics_rules import expect, run
+
+from tockbmc.encodings.values import Range, Ranges
+
+ONE = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
+
+
+def test_transitions_leave_a_during_wait_before_it_ends(tmp_path: Path) -> None:
+    """§2.7: a during action (here a wait) is abandoned when a transition is taken."""
+    rs = run(tmp_path, """
+stm M {
+  event e
+  initial i
+  state s { during wait(3) }
+  state u {}
+  transition t0 { from i to s }
+  transition t1 { from s to u trigger e condition sinceEntry(s) == 1 }
+}
+""", "assertion NU: u is not reachable in M.\n")
+    expect(rs["NU"], "violated", ["tock", "M::e.in"])
+
+
+def test_self_transition_restarts_a_trigger_deadline(tmp_path: Path) -> None:
+    """§2.11: re-entering the source state restarts the deadline of its transition."""
+    rs = run(tmp_path, """
+stm M {
+  event e
+  event g
+  clock C
+  initial i
+  state s {}
+  state u {}
+  state late {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger e }
+  transition t3 { from s to u trigger g <{1} }
+  transition t4 { from s to late condition since(C) >= 2 }
+}
+""", "assertion L: late is not reachable in M.\n", bound=12)
+    expect(rs["L"], "violated", ["tock", "M::e.in", "tock"])
+
+
+def test_postcondition_holds_for_every_offered_input(tmp_path: Path) -> None:
+    """§2.15 with §3 deadlock: f(x) > 10 for every x, so e?x with condition f(x) > 5 is always offered."""
+    rs = run(tmp_path, """
+function f(n : int) : int { postcondition result > 10 }
+stm M {
+  event e : int
+  var x : int = 0
+  initial i
+  state s {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger e?x condition f(x) > 5 }
+}
+""", "assertion DL: M is deadlock-free.\n", bound=6, ranges=ONE)
+    expect(rs["DL"], "holds")
+
+
+def test_function_is_unconstrained_outside_its_precondition(tmp_path: Path) -> None:
+    """§2.15: g(0) lies outside `n > 0`, so any value, 2 included, is possible."""
+    rs = run(tmp_path, """
+function g(n : int) : int { precondition n > 0 postcondition result == 1 }
+stm M {
+  var x : int = 0
+  initial i
+  state s {}
+  state u {}
+  transition t0 { from i to s }
+  transition t1 { from s to u condition g(x) == 2 }
+}
+""", "assertion NU: u is not reachable in M.\n", bound=6)
+    expect(rs["NU"], "violated")
