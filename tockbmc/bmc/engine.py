@@ -48,6 +48,7 @@ class _Induction:
     def __init__(self, system: System, target: Target, deadline: float | None):
         self.system, self.target = system, target
         self.solver = _solver(deadline)
+        self.deadline = deadline
         self.solver.add(system.invariants())
         self.length = 0  # configurations 0..length-1 are constrained to be non-targets
 
@@ -64,6 +65,11 @@ class _Induction:
             self.solver.add([self._distinct(i, j) for i in range(j)])
             self.length += 1
         self.solver.add([self._distinct(i, k) for i in range(k)])
+        if self.deadline is not None:
+            left = self.deadline - time.monotonic()
+            if left <= 0:
+                return None
+            self.solver.set("timeout", max(1, int(left * 1000)))
         literal = z3.Bool(f"induction@{k}")
         self.solver.add(z3.Implies(literal, self.target(s, k)))
         self.solver.add(s.side_constraints())
@@ -86,11 +92,19 @@ def bmc(system: System, target: Target, bound: int, timeout: float | None = None
         solver.add(system.side_constraints())
         literal = z3.Bool(f"target@{k}")
         solver.add(z3.Implies(literal, goal))
+        if deadline is not None:  # Z3's timeout is per check: give each what is left
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return Outcome("unknown", k, None, f"timed out at depth {k}")
+            solver.set("timeout", max(1, int(left * 1000)))
         result = solver.check(literal)
         if result == z3.sat:
             return Outcome("found", k, solver.model())
         if result == z3.unknown:
-            return Outcome("unknown", k, None, f"Z3 gave up at depth {k}: {solver.reason_unknown()}")
+            why = solver.reason_unknown()
+            if why in ("canceled", "timeout"):
+                return Outcome("unknown", k, None, f"timed out at depth {k}")
+            return Outcome("unknown", k, None, f"Z3 gave up at depth {k}: {why}")
         if prover is not None and k < INDUCTION_DEPTH:
             if prover.proves(k + 1):
                 return Outcome("proved", k, None, f"it is {k + 1}-inductive, so no depth reaches it")
