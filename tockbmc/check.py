@@ -48,12 +48,12 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
         check_encodable(network)
         consts = dict(settings)
         consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
-        reasons = []
+        reasons: list[str] = []
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
             system = System(network, ranges, consts)
-            induction = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless and induction else None
-            outcome = bmc(system, goal.target, bound, remaining, induction)
+            prover = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless and induction else None
+            outcome = bmc(system, goal.target, bound, remaining, prover)
             if outcome.status == "unknown":
                 return result("unknown", outcome.reason)
             if outcome.status == "found":

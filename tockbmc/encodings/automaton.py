@@ -179,23 +179,10 @@ class _Builder:
 
     def _since_entry_states(self) -> set[str]:
         """The states whose time since entry some expression of the machine reads."""
-        found: set[str] = set()
-
-        def visit(x: object) -> None:
-            if isinstance(x, ast.SinceEntry):
-                found.add(x.state)
-            if isinstance(x, (ast.Expr, ast.Stmt)):
-                for f in dataclasses.fields(x):
-                    visit(getattr(x, f.name))
-            elif isinstance(x, tuple):
-                for y in x:
-                    visit(y)
-
-        for n in self.m.nodes:
-            visit((n.entry, n.during, n.exit))
-        for t in self.m.transitions:
-            visit((t.condition, t.action, t.deadline, t.trigger.value if t.trigger else None))
-        return found
+        parts: list[tuple[object, ...]] = [(n.entry, n.during, n.exit) for n in self.m.nodes]
+        parts += [(t.condition, t.action, t.deadline, t.trigger.value if t.trigger else None)
+                  for t in self.m.transitions]
+        return {e.state for e in ast.subexpressions(tuple(parts)) if isinstance(e, ast.SinceEntry)}
 
     # ------------------------------------------------------------ structure
 
@@ -422,15 +409,9 @@ class _Builder:
         return nxt
 
 
-def _reads(e: object, v: ast.Variable) -> bool:
+def _reads(e: ast.Expr | None, v: ast.Variable) -> bool:
     """Whether expression `e` reads variable `v`."""
-    if isinstance(e, ast.VarRef):
-        return e.variable is v
-    if isinstance(e, ast.Expr):
-        return any(_reads(getattr(e, f.name), v) for f in dataclasses.fields(e))
-    if isinstance(e, tuple):
-        return any(_reads(x, v) for x in e)
-    return False
+    return any(isinstance(x, ast.VarRef) and x.variable is v for x in ast.subexpressions(e))
 
 
 def compile_machine(machine: ast.StateMachine) -> Automaton:

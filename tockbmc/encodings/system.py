@@ -18,7 +18,7 @@ import z3
 
 from tockbmc.encodings.automaton import Edge, TriggerDeadline, Unsupported
 from tockbmc.encodings.composition import External, Link, Network, Port
-from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaves, sort_of
+from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
 from tockbmc.model import ast
 
 
@@ -88,7 +88,7 @@ class System:
 
     def _scalars(self, base: str, t: ast.Type) -> None:
         for path, _ in leaves(fresh("probe", t)):
-            self._slot(base + path, sort_of(_leaf_type(t, path)))
+            self._slot(base + path, sort_of(leaf_type(t, path)))
 
     def _declare(self) -> None:
         shared_consts: dict[str, Value] = {}
@@ -487,13 +487,6 @@ def _end_event(link: Link) -> ast.Event:
     return link.receiver.event if isinstance(link.receiver, (Port, External)) else link.sender.event
 
 
-def _leaf_type(t: ast.Type, path: str) -> ast.Type:
-    for part in [p for p in path.split(".") if p]:
-        assert isinstance(t, ast.RecordType)
-        ft = t.field_type(part)
-        assert ft is not None
-        t = ft
-    return t
 
 
 def _set_field(record: Value, path: tuple[str, ...], new: Value) -> Value:

@@ -75,6 +75,16 @@ def leaves(v: Value, prefix: str = "") -> list[tuple[str, z3.ExprRef]]:
     return [(prefix, v)]
 
 
+def leaf_type(t: ast.Type, path: str) -> ast.Type:
+    """The type of the scalar at field path `path` (`.dist`) of a value of type `t`."""
+    for part in [p for p in path.split(".") if p]:
+        assert isinstance(t, ast.RecordType)
+        ft = t.field_type(part)
+        assert ft is not None
+        t = ft
+    return t
+
+
 def equal(a: Value, b: Value) -> z3.BoolRef:
     if isinstance(a, dict) and isinstance(b, dict):
         return z3.And([equal(a[k], b[k]) for k in a if k in b])

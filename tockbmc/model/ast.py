@@ -7,6 +7,7 @@ that later layers can point back at the model text.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
@@ -425,6 +426,21 @@ def statements(s: Stmt | None) -> list[Stmt]:
             stack.extend((st.then, st.otherwise))
         elif isinstance(st, Deadline):
             stack.append(st.statement)
+    return found
+
+
+def subexpressions(x: object) -> list[Expr]:
+    """Every expression inside `x` (an expression, a statement, or a tuple of them), without recursion."""
+    found: list[Expr] = []
+    stack = [x]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, tuple):
+            stack.extend(item)
+        elif isinstance(item, (Expr, Stmt)):
+            if isinstance(item, Expr):
+                found.append(item)
+            stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
     return found
 
 

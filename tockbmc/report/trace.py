@@ -10,7 +10,7 @@ from tockbmc.bmc.result import TraceStep
 from tockbmc.encodings.automaton import Edge
 from tockbmc.encodings.composition import External
 from tockbmc.encodings.system import Move, System
-from tockbmc.encodings.values import Value, leaves
+from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
 
 
@@ -118,7 +118,7 @@ def _changed(system: System, model: z3.ModelRef, i: int, m: Move) -> dict[str, s
             old = model.eval(before[name], model_completion=True)
             if (name in written or (i == 0 and initial is not None)
                     or not z3.is_true(model.eval(new == old, model_completion=True))):
-                out[name] = scalar_text(after[name], model, _leaf_type(t, path))
+                out[name] = scalar_text(after[name], model, leaf_type(t, path))
     return out
 
 
@@ -140,12 +140,3 @@ def decode(system: System, model: z3.ModelRef, depth: int) -> tuple[TraceStep, .
             steps.append(TraceStep(i + 1, _move_event(system, m, i, model), "event", transition or "",
                                    states, changed))
     return tuple(steps)
-
-
-def _leaf_type(t: ast.Type, path: str) -> ast.Type:
-    for part in [p for p in path.split(".") if p]:
-        assert isinstance(t, ast.RecordType)
-        ft = t.field_type(part)
-        assert ft is not None
-        t = ft
-    return t
