@@ -12,6 +12,7 @@ from tockbmc.encodings.composition import network_of
 from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
+from tockbmc.model.csp import CspError
 from tockbmc.properties.queries import NotSupported, query
 from tockbmc.report.trace import decode
 
@@ -47,12 +48,14 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
         network = network_of(q.element)
         check_encodable(network)
         consts = dict(settings)
+        consts.update(dict(q.settings))
         consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
         reasons: list[str] = []
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
-            system = System(network, ranges, consts)
-            prover = (lambda: System(network, ranges, consts, tag="k.")) if goal.stateless and induction else None
+            system = System(network, ranges, consts, context=q.context)
+            prover = ((lambda: System(network, ranges, consts, tag="k.", context=q.context))
+                      if goal.stateless and induction else None)
             outcome = bmc(system, goal.target, bound, remaining, prover)
             if outcome.status == "unknown":
                 return result("unknown", outcome.reason)
@@ -77,6 +80,6 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
             reasons.append(why)
     except NotSupported as exc:
         return result("unsupported", str(exc), searched=None)
-    except Unsupported as exc:
+    except (Unsupported, CspError) as exc:
         return result("unsupported", f"{exc.what} ({exc.pos})")
     return result("holds", "; ".join(reasons))

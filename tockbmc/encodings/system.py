@@ -12,7 +12,8 @@ per scalar is written rather than a frame per move.  Names follow pySMT's
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Protocol
 
 import z3
 
@@ -37,6 +38,8 @@ class Move:
     role: str
     parts: tuple[tuple[int, Edge], ...] = ()
     link: Link | None = None
+    hidden: bool = False  # a visible event that a CSP context hides, so internal (and urgent)
+    blocked: bool = False  # a visible event that a CSP context blocks (`P [| A |] SKIP`)
 
     @property
     def urgent(self) -> bool:
@@ -53,11 +56,33 @@ class _Effect:
     side: list[z3.BoolRef]  # function axioms instantiated at the calls this step makes
 
 
+class Context(Protocol):
+    """What a CSP context does to the element's events (see `encodings.process`)."""
+
+    def status(self, label: tuple, arity: int) -> str:
+        """'visible', 'hidden' or 'blocked' for the events of one channel."""
+        ...
+
+    def attach(self, system: System) -> Extension | None:
+        """Extra state that runs beside the element (a specification monitor), if any."""
+        ...
+
+
+class Extension(Protocol):
+    """Scalars and constraints added to every configuration and step."""
+
+    def slots(self) -> dict[str, z3.SortRef]: ...
+
+    def init(self, system: System) -> z3.BoolRef: ...
+
+    def step(self, system: System, i: int) -> z3.BoolRef: ...
+
+
 class System:
     """The unrolling of a network; configurations and inputs are created on demand."""
 
     def __init__(self, network: Network, ranges: Ranges, settings: dict[str, ast.Expr] | None = None,
-                 tag: str = ""):
+                 tag: str = "", context: Context | None = None):
         self.network = network
         self.ranges = ranges
         self.settings = settings or {}
@@ -79,6 +104,76 @@ class System:
         self._declare()
         self.moves = self._moves()
         self.TOCK = len(self.moves) - 1
+        self.tock_hidden = False
+        self.extension: Extension | None = None
+        self.extension_slots: dict[str, z3.SortRef] = {}
+        if context is not None:
+            self.moves = [self._in_context(context, m) for m in self.moves]
+            self.tock_hidden = context.status(("tock",), 0) == "hidden"
+            self.extension = context.attach(self)
+            if self.extension is not None:
+                self.extension_slots = self.extension.slots()
+                self.sorts.update(self.extension_slots)
+
+    def _in_context(self, context: Context, m: Move) -> Move:
+        if m.kind != "event":
+            return m
+        label, arity = self.label(m)
+        status = context.status(label, arity)
+        if status == "hidden":
+            return replace(m, kind="internal", hidden=True)
+        return replace(m, blocked=True) if status == "blocked" else m
+
+    # ------------------------------------------------------------ event labels (CSP's view)
+
+    def label(self, m: Move) -> tuple[tuple, int]:
+        """A visible move's channel as CSP names it, `("EXAX::move", "in")`, and how many values follow."""
+        if m.kind == "tock":
+            return ("tock",), 0
+        if m.role in ("env-write", "env-read"):
+            assert m.link is not None
+            end = m.link.sender if m.role == "env-write" else m.link.receiver
+            assert isinstance(end, External)
+            return (canonical(end.name), "in" if m.role == "env-write" else "out"), int(end.event.type is not None)
+        c, e = m.parts[0]
+        if e.kind == "terminate":
+            return (canonical(f"{self.name}::terminate"),), 0
+        if e.kind == "call":
+            assert e.operation is not None
+            return (canonical(f"{self.name}::{e.operation.name}Call"),), len(e.args)
+        assert e.event is not None
+        name = self.network.visible_name(c, e.event.name)
+        return (canonical(name), "in" if e.kind == "in" else "out"), int(e.event.type is not None)
+
+    def label_values(self, m: Move, i: int) -> list[tuple[Value, ast.Type]]:
+        """The values a visible move at step i carries, with their types."""
+        if m.kind == "tock":
+            return []
+        if m.role in ("env-write", "env-read"):
+            assert m.link is not None
+            end = m.link.sender if m.role == "env-write" else m.link.receiver
+            assert isinstance(end, External)
+            t = end.event.type
+            if t is None:
+                return []
+            value = (self.chosen(f"in.{end.name}", t, i) if m.role == "env-write"
+                     else self.value(f"buffer{m.link.index}.value", t, i))
+            return [(value, t)]
+        c, e = m.parts[0]
+        if e.kind == "terminate":
+            return []
+        ev = self.evaluator(c, i)
+        if e.kind == "call":
+            return [(ev.value(a), a.type) for a in e.args]
+        assert e.event is not None
+        t = e.event.type
+        if t is None:
+            return []
+        if e.kind == "in":
+            name = self.network.visible_name(c, e.event.name)
+            return [(self.chosen(f"in.{name}", t, i), t)]
+        assert e.value is not None
+        return [(ev.value(e.value), t)]
 
     # ------------------------------------------------------------ declarations
 
@@ -306,6 +401,8 @@ class System:
         post: dict[str, z3.ExprRef] = {}
         inputs: list[z3.ExprRef] = []
         enabled: list[z3.BoolRef] = [z3.Not(self.halted(i))]
+        if m.blocked:
+            enabled.append(z3.BoolVal(False))
         choose: list[z3.BoolRef] = []
         link = m.link
         if m.role == "local":
@@ -449,6 +546,8 @@ class System:
         for link in self.network.links:
             if link.asynchronous:
                 cs.append(z3.Not(f[f"buffer{link.index}.full"]))
+        if self.extension is not None:
+            cs.append(self.extension.init(self))
         return z3.And(cs)
 
     def invariants(self) -> list[z3.BoolRef]:
@@ -469,10 +568,14 @@ class System:
                 if not term.eq(s[name]):
                     changes.setdefault(name, []).append((taken, term))
         for name, old in s.items():
+            if name in self.extension_slots:
+                continue
             new = old
             for taken, term in changes.get(name, []):
                 new = z3.If(taken, term, new)
             cs.append(t[name] == new)
+        if self.extension is not None:
+            cs.append(self.extension.step(self, i))
         return z3.And(cs)
 
     def side_constraints(self) -> list[z3.BoolRef]:
@@ -481,6 +584,11 @@ class System:
         self._side_seen.update(c.get_id() for c in out)
         self.side[:] = []
         return out
+
+
+def canonical(name: str) -> str:
+    """CSP names compare by their last two parts (`pkg::EXAX::move` is `EXAX::move`)."""
+    return "::".join(name.split("::")[-2:])
 
 
 def _end_event(link: Link) -> ast.Event:

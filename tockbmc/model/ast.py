@@ -648,6 +648,8 @@ class CspBlock:
     text: str
     pos: Pos
     defines: tuple[str, ...]  # process names defined at its top level
+    code_line: int = 1  # where the text after `csp-begin` starts in the file
+    code_column: int = 1
 
 
 @dataclass(frozen=True)

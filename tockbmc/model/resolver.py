@@ -801,6 +801,7 @@ class Resolver:
         associated: tuple[str, ...] = ()
         code = ""
         name = ""
+        start = (1, 1)
         for c in tree.children:
             if isinstance(c, Tree) and c.data in ("timed", "untimed"):
                 timing = c.data
@@ -808,10 +809,11 @@ class Resolver:
                 associated = tuple(qname_text(q) for q in c.children)
             elif isinstance(c, Token) and c.type == "CSP_CODE":
                 code = str(c)[len("csp-begin"):-len("csp-end")]
+                start = (c.line or 1, (c.column or 1) + len("csp-begin"))
             elif isinstance(c, Token) and c.type == "ID":
                 name = str(c)
         defines = tuple(dict.fromkeys(m.group(1) for m in _CSP_DEFINITION.finditer(code)))
-        return ast.CspBlock(name, timing, associated, code, pos_of(path, tree), defines)
+        return ast.CspBlock(name, timing, associated, code, pos_of(path, tree), defines, *start)
 
     def element_names(self) -> list[str]:
         return self.table.names(("stm_def", "controller_def", "module_def", "operation_def"))

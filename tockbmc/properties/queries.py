@@ -16,6 +16,9 @@ import z3
 
 from tockbmc.encodings.system import System
 from tockbmc.model import ast
+from tockbmc.model.csp import CspError, Definition, parse_block
+from tockbmc.properties.process import Context, Implementation, implementation
+from tockbmc.properties.spec import Env, Evaluator, Proc, Semantics
 
 
 class NotSupported(Exception):
@@ -45,6 +48,8 @@ class Query:
     goals: tuple[Goal, ...]  # searched in order; the first that reaches its target decides
     after: str = "holds"  # verdict when no goal's target is reached
     after_reason: str = ""
+    context: Context | None = None  # the CSP operators around the element, and a monitor
+    settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
 
 
 def terminated(system: System, k: int) -> z3.BoolRef:
@@ -100,14 +105,47 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         raise NotSupported("untimed assertions need RoboTool's untimed semantics, which is not built yet")
     if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
         raise NotSupported(f"the {a.semantic_model} model is not supported")
-    if a.subject_is_process or a.other_is_process:
-        raise NotSupported("assertions over processes defined in CSP blocks need the CSP parser (next issue)")
-    element_name = a.other if a.kind == "reachable" else a.subject
-    element = _element(project, element_name or "")
+    if a.kind == "equals":
+        raise NotSupported("'equals' needs both directions; the direction in which a model refines a "
+                           "specification's traces (every trace of the specification is one of the model's) "
+                           "is not built yet")
+    subject, subject_is_process = (a.other, a.other_is_process) if a.kind == "reachable" else (a.subject,
+                                                                                               a.subject_is_process)
+    ev = Evaluator(_top_level(project), _any_block(project))
+    sem = Semantics(ev)
+    if subject_is_process:
+        impl = _process(ev, project, subject or "")
+        if not isinstance(impl, Implementation):
+            raise NotSupported(f"'{subject}' is a CSP process with no model element in it; checking a "
+                               "specification on its own is not supported")
+    else:
+        impl = Implementation(subject or "", (), a.pos)
+    element = _element(project, impl.element)
     if element is None or isinstance(element, ast.OperationDef):
-        raise NotSupported(f"'{element_name}' is an operation; operations are checked through the machines "
+        raise NotSupported(f"'{impl.element}' is an operation; operations are checked through the machines "
                            "that call them, which is not encoded yet")
     name = element.name
+    settings = _arguments(element, impl)
+    if a.kind == "refines":
+        if not a.other_is_process:
+            raise NotSupported("the specification must be a CSP process; refinement between two model elements "
+                               "is not built yet")
+        spec = _process(ev, project, a.other or "")
+        if not isinstance(spec, Proc):
+            raise NotSupported(f"the specification '{a.other}' contains a model element; only CSP "
+                               "specifications can be monitored")
+        context = Context(impl, sem, spec, a.other or "")
+        goal = _refinement_goal(a, name)
+        return Query(a, element, (goal,), context=context, settings=settings)
+    context = Context(impl, sem) if subject_is_process else None
+    if context is not None and impl.continues:
+        raise NotSupported(f"'{subject}' runs a process after the model terminates; only refinement checks "
+                           "support that")
+    q = _query(a, element, name)
+    return Query(a, element, q.goals, q.after, q.after_reason, context, settings)
+
+
+def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str) -> Query:
 
     def says(text: str) -> Callable[[System, z3.ModelRef, int], str]:
         return lambda system, model, k: text
@@ -135,6 +173,91 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
             goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"))
         return Query(a, element, (goal,))
     raise NotSupported(f"'{a.kind}' assertions are not supported yet")
+
+
+def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
+    def violated(system: System, k: int) -> z3.BoolRef:
+        assert system.extension is not None
+        return system.extension.violated(system, k)  # type: ignore[attr-defined, no-any-return]
+
+    def describe(system: System, model: z3.ModelRef, k: int) -> str:
+        ext = system.extension
+        assert ext is not None
+        state = model.eval(system.frame(k)["monitor"], model_completion=True).as_long()
+        if state == -1:
+            return f"{a.other} cannot do the last event of this trace"
+        rest = " ".join(ext.bad_end.get(state, []))  # type: ignore[attr-defined]
+        return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
+
+    if a.negated:
+        return Goal(violated, "holds", "unknown", "violated", describe,
+                    claim=f"every trace is a trace of {a.other}")
+    return Goal(violated, "violated", "holds", "holds", describe, claim=f"every trace is a trace of {a.other}")
+
+
+def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
+    def lookup(name: str) -> Definition | None:
+        for block in project.csp_blocks:
+            if name in block.defines:
+                for d in parse_block(block):
+                    if d.name == name:
+                        return d
+        return None
+
+    return lookup
+
+
+def _any_block(project: ast.Project) -> ast.CspBlock:
+    return project.csp_blocks[0] if project.csp_blocks else ast.CspBlock("", None, (), "", ast.Pos("", 1, 1), ())
+
+
+def _process(ev: Evaluator, project: ast.Project, name: str) -> Implementation | Proc:
+    d = ev.lookup_top(name)
+    if d is None:
+        raise NotSupported(f"process '{name}' is not defined at the top level of any CSP block")
+    if d.params:
+        raise CspError(d.pos, f"process '{name}' takes arguments")
+    ev.block = d.block
+    return implementation(ev, d.body, Env({}, {}, d.timed))
+
+
+def _arguments(element: ast.StateMachine | ast.Controller | ast.Module,
+               impl: Implementation) -> tuple[tuple[str, ast.Expr], ...]:
+    """`M::D__(id, c1, …)`: the arguments after `id` set M's constants in declaration order."""
+    if len(impl.args) <= 1:
+        return ()
+    constants = _constants(element)
+    given = impl.args[1:]
+    if len(given) > len(constants):
+        raise CspError(impl.pos, f"{element.name} has {len(constants)} constant(s) "
+                                 f"({', '.join(c.name for c in constants) or 'none'}), "
+                                 f"but {len(given)} argument(s) are given after the id")
+    out = []
+    for c, v in zip(constants, given, strict=False):
+        if not isinstance(v, (int, bool)):
+            raise CspError(impl.pos, f"the argument for constant {c.name} must be a number or a boolean")
+        out.append((c.name, ast.Literal(c.type, impl.pos, v)))
+    return tuple(out)
+
+
+def _constants(element: ast.StateMachine | ast.Controller | ast.Module) -> list[ast.Variable]:
+    found: dict[str, ast.Variable] = {}
+    if isinstance(element, ast.Module):
+        for ci in element.controllers:
+            for v in _constants(ci.controller):
+                found.setdefault(v.name, v)
+    elif isinstance(element, ast.Controller):
+        for v in element.variables:
+            if v.constant:
+                found.setdefault(v.name, v)
+        for m in element.machines:
+            for v in _constants(m.machine):
+                found.setdefault(v.name, v)
+    else:
+        for v in (*element.variables, *element.interface_variables):
+            if v.constant:
+                found.setdefault(v.name, v)
+    return list(found.values())
 
 
 def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef | None:

@@ -1,0 +1,291 @@
+"""Processes over the model: a model element in a CSP context, and specifications as monitors.
+
+An implementation process is a model element (`M::D__(id, c1, …)`, or the
+element named directly) under the operators of `semantics.md` §4 that the
+encoding understands: hiding `\\` and projection `|\\` (events become internal,
+hence urgent), `[| A |] SKIP` and `[| A |] STOP` (events of A are blocked),
+`P ; T` (after the element terminates, T runs), and prefix `e -> P` outside a
+Timed section.  `Context` tells the `System` which moves are hidden or
+blocked; `MonitorExtension` runs a specification's `Monitor` beside the
+element, so `P refines Q` becomes "the monitor never reaches DEAD".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import z3
+from lark import Tree
+
+from tockbmc.encodings.system import System
+from tockbmc.model import ast
+from tockbmc.model.csp import CspError, Definition, pos_of
+from tockbmc.properties.spec import (
+    EVENTS,
+    OTHER,
+    TOCK,
+    Binary,
+    Channel,
+    Env,
+    Evaluator,
+    EventSet,
+    ModelProcess,
+    Monitor,
+    Proc,
+    Semantics,
+    Skip,
+    Stop,
+    TooLarge,
+)
+
+
+@dataclass
+class Implementation:
+    """A model element in context: the operators between it and the top, outermost first."""
+
+    element: str
+    args: tuple[object, ...]
+    pos: ast.Pos
+    ops: list[tuple[str, EventSet]] = field(default_factory=list)  # ("hide" | "block", events)
+    tail: Proc = field(default_factory=Skip)  # what runs after the element terminates, in context
+    head: tuple[tuple, ...] = ()  # events before the element starts
+    continues: bool = False  # something other than ✓ follows the element's termination
+
+
+def implementation(ev: Evaluator, t: Tree, env: Env) -> Implementation | Proc:
+    """Walk an expression: an `Implementation` if it contains a model process, else a specification term."""
+    k = t.data
+    c = t.children
+    if k == "name":
+        found = env.lookup(str(c[0]))
+        if found is not None and found[0] == "def":
+            d, denv = found[1]  # type: ignore[misc]
+            return _definition(ev, d, Env({}, {}, denv.timed or d.timed, denv), ())
+        top = ev.lookup_top(str(c[0])) if found is None else None
+        if top is not None:
+            return _definition(ev, top, Env({}, {}, top.timed), ())
+        return ev.proc(t, env)
+    if k == "apply":
+        head = c[0]
+        name = str(head.children[0]) if head.data == "name" else ""
+        if name.endswith("::D__") or name.endswith("::O__"):
+            return Implementation(name[:-5], tuple(ev.eval(a, env) for a in c[1:]), pos_of(ev.block, t))
+        if name == "timed_priority" and len(c) == 2:
+            return implementation(ev, c[1], env)
+        found = env.lookup(name)
+        d = found[1][0] if found is not None and found[0] == "def" else ev.lookup_top(name)  # type: ignore[index]
+        if d is not None:
+            return _definition(ev, d, env, tuple(ev.eval(a, env) for a in c[1:]))
+        return ev.proc(t, env)
+    if k == "let":
+        defs = {d.name: d for d in (ev._local(x) for x in c[:-1])}
+        return implementation(ev, c[-1], Env({}, defs, env.timed, env))
+    if k == "if_":
+        return implementation(ev, c[1] if ev.boolean(c[0], env) else c[2], env)
+    if k in ("hide", "project", "parallel", "seq", "prefix"):
+        inner_t = c[1] if k == "prefix" else c[0]
+        inner = implementation(ev, inner_t, env)
+        if not isinstance(inner, Implementation):
+            return ev.proc(t, env)
+        if k in ("hide", "project"):
+            events = ev.events(c[1], env)
+            hidden = events if k == "hide" else EventSet("diff", (EVENTS, events))
+            inner.ops.insert(0, ("hide", hidden))
+            inner.tail = Binary("hide", inner.tail, None, hidden, env.timed)
+        elif k == "parallel":
+            p = ev.eval(c[2], env)
+            if not isinstance(p, (Skip, Stop)):
+                raise ev.error(t, "a model process can only be put in parallel with SKIP or STOP "
+                                  "(to block events)")
+            events = ev.events(c[1], env)
+            inner.ops.insert(0, ("block", events))
+            tail = inner.tail if isinstance(p, Skip) else Binary("seq", inner.tail, p, None, env.timed)
+            inner.continues |= isinstance(p, Stop)
+            inner.tail = Binary("parallel", tail, Skip(), events, env.timed)
+        elif k == "seq":
+            inner.tail = Binary("seq", inner.tail, ev.proc(c[1], env), None, env.timed)
+            inner.continues = True
+        else:  # prefix
+            if env.timed:
+                raise ev.error(t, "a prefix before a model process inside a Timed section is not supported")
+            event = ev.pattern(c[0], env)
+            if any(not _concrete(x) for x in event):
+                raise ev.error(c[0], "a prefix before a model process must name one event")
+            inner.head = (event, *inner.head)
+        return inner
+    if k in ("external", "internal", "interrupt", "timeout", "exception", "interleave", "replicated"):
+        for x in c:
+            if isinstance(x, Tree) and isinstance(_peek(ev, x, env), Implementation):
+                raise ev.error(t, f"a model process under '{k}' is not supported; only hiding, projection, "
+                                  "[| A |] SKIP/STOP, ';' and prefix may be applied to it")
+    return ev.proc(t, env)
+
+
+def _peek(ev: Evaluator, t: Tree, env: Env) -> object:
+    try:
+        return implementation(ev, t, env)
+    except CspError:
+        return None
+
+
+def _concrete(x: object) -> bool:
+    return isinstance(x, (int, bool, str))
+
+
+def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]) -> Implementation | Proc:
+    if len(args) != len(d.params):
+        raise CspError(d.pos, f"'{d.name}' takes {len(d.params)} arguments, not {len(args)}")
+    ev.block = d.block
+    inner = Env(dict(zip(d.params, args, strict=True)), {}, env.timed or d.timed, env)
+    return implementation(ev, d.body, inner)
+
+
+def element_of(x: ModelProcess | Implementation) -> str:
+    return x.element if isinstance(x, Implementation) else x.name
+
+
+class Context:
+    """An `Implementation`'s operators as a `System` sees them, plus an optional monitor."""
+
+    def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = ""):
+        self.impl, self.sem, self.spec, self.spec_name = impl, sem, spec, spec_name
+
+    def status(self, label: tuple, arity: int) -> str:
+        """Inside out: the first operator that hides or blocks the channel decides."""
+        for kind, events in reversed(self.impl.ops):
+            mentioned = [e for e in events.mentions() if len(e) > len(label) and e[: len(label)] == label]
+            if mentioned:
+                raise CspError(self.impl.pos, "hiding or blocking particular values of a channel is not supported")
+            if events.contains((*label, *(OTHER,) * arity)):
+                return "hidden" if kind == "hide" else "blocked"
+        return "visible"
+
+    def attach(self, system: System) -> MonitorExtension | None:
+        if self.spec is None:
+            return None
+        return MonitorExtension(system, self)
+
+
+class MonitorExtension:
+    """The specification's monitor state `monitor`, updated by every visible step."""
+
+    def __init__(self, system: System, context: Context):
+        self.context = context
+        sem = context.sem
+        visible = [m for m in system.moves if m.kind == "event" and not m.blocked]
+        self.channels: list[Channel] = []
+        self.channel_of: dict[int, int] = {}
+        for m in visible:
+            label, arity = system.label(m)
+            ch = Channel(label, arity)
+            if ch not in self.channels:
+                self.channels.append(ch)
+            self.channel_of[m.index] = self.channels.index(ch)
+        if not system.tock_hidden:
+            self.channels.append(Channel(TOCK, 0))
+            self.channel_of[system.TOCK] = len(self.channels) - 1
+        assert context.spec is not None
+        try:
+            self.monitor = Monitor(sem, context.spec, self.channels)
+            start = self.monitor.initial
+            for e in context.impl.head:
+                start = self.monitor.after(start, e)
+            self.start = start
+            self.table = self.monitor.table()
+            self.count = len(self.monitor.states)
+            self.bad_end = self._bad_end()
+        except TooLarge:
+            raise CspError(context.impl.pos, f"the specification {context.spec_name} has too many states "
+                                             "to monitor") from None
+
+    def slots(self) -> dict[str, z3.SortRef]:
+        return {"monitor": z3.IntSort()}
+
+    def init(self, system: System) -> z3.BoolRef:
+        return system.frame(0)["monitor"] == self.start
+
+    def step(self, system: System, i: int) -> z3.BoolRef:
+        mon = system.frame(i)["monitor"]
+        act = system.action(i)
+        new: z3.ArithRef = mon  # type: ignore[assignment]
+        for m in system.moves:
+            c = self.channel_of.get(m.index)
+            if c is None:
+                continue
+            values = [v for v, _t in system.label_values(m, i)]
+            by_state: z3.ArithRef = z3.IntVal(Monitor.DEAD)
+            for s in reversed(range(self.count)):
+                by_state = z3.If(mon == s, self._delta(s, c, values), by_state)
+            new = z3.If(act == m.index, by_state, new)
+        return system.frame(i + 1)["monitor"] == new
+
+    def _delta(self, s: int, c: int, values: list) -> z3.ArithRef:
+        entries = self.table[(s, c)]
+        out: z3.ArithRef = z3.IntVal(entries[-1][1])  # every value the state does not mention
+        for vs, nxt in reversed(entries[:-1]):
+            out = z3.If(z3.And([_equals(v, x) for v, x in zip(values, vs, strict=True)]), nxt, out)
+        return out
+
+    def violated(self, system: System, k: int) -> z3.BoolRef:
+        mon = system.frame(k)["monitor"]
+        ends = [mon == s for s in sorted(self.bad_end)]
+        return z3.Or(mon == Monitor.DEAD, z3.And(system.halted(k), z3.Or(ends))) if ends else mon == Monitor.DEAD
+
+    def _bad_end(self) -> dict[int, list[str]]:
+        """Monitor states from which what follows the element's termination has a trace the spec refuses.
+
+        Maps each such state to that trace (event names, `✓` for termination).
+        """
+        sem, mon = self.context.sem, self.monitor
+        out: dict[int, list[str]] = {}
+        for s in range(self.count):
+            todo: list[tuple[Proc, int, list[str]]] = [(self.context.impl.tail, s, [])]
+            seen: set[tuple[Proc, int]] = set()
+            while todo:
+                p, q, trace = todo.pop(0)
+                p = sem.force(p)
+                if (p, q) in seen or len(seen) > 2000:
+                    continue
+                seen.add((p, q))
+                if sem.ticks(p) and not mon.can_tick(q):
+                    out[s] = [*trace, "✓"]
+                    break
+                todo += [(r, q, trace) for r in sem.taus(p)]
+                events = {tuple(OTHER if x.__class__.__name__ in ("Any_", "Input") else x for x in e)
+                          for e in sem.mentions(p)}
+                events |= {(*ch.prefix, *(OTHER,) * ch.arity) for ch in self.channels}
+                if sem.stable(p):
+                    events.add(TOCK)
+                else:
+                    events.discard(TOCK)
+                for e in sorted(events, key=repr):
+                    for r in sem.after(p, e):
+                        nxt = mon.after(q, e)
+                        name = _event_text(e)
+                        if nxt == Monitor.DEAD:
+                            out[s] = [*trace, name]
+                            todo = []
+                            break
+                        todo.append((r, nxt, [*trace, name]))
+                    if s in out:
+                        break
+        return out
+
+
+def _event_text(e: tuple) -> str:
+    return ".".join("…" if x is OTHER else str(x).lower() if isinstance(x, bool) else str(x) for x in e)
+
+
+def _equals(term: object, value: object) -> z3.BoolRef:
+    if value is OTHER:
+        return z3.BoolVal(False)
+    if isinstance(term, dict):
+        raise ValueError("a specification that names record values is not supported")
+    assert isinstance(term, z3.ExprRef)
+    if isinstance(value, bool):
+        return term == z3.BoolVal(value) if z3.is_bool(term) else z3.BoolVal(False)
+    if isinstance(value, int) and z3.is_arith(term):
+        return term == value  # type: ignore[return-value]
+    return z3.BoolVal(False)
+
+

@@ -1,0 +1,807 @@
+"""CSP specifications as finite monitors (semantics.md §4).
+
+A specification is evaluated into process terms with an explicit operational
+semantics in tock-CSP: `after(p, e)` for a visible event (`tock` included),
+`taus(p)` for internal steps (✓ hidden by `;` among them), `ticks(p)` for
+successful termination.  Maximal progress always applies: a term offers
+`tock` only when it has no internal step and cannot terminate.
+
+`Monitor` determinises the specification over the implementation's events,
+as a set of terms after each trace (so nondeterministic specifications are
+followed along every path; the traces of `P |~| Q` are those of `P [] Q`).
+Events carry values; a specification only distinguishes the values it
+mentions, so per channel the monitor has one atom per mentioned value and one
+for every other value (`OTHER`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from lark import Token, Tree
+
+from tockbmc.encodings.system import canonical
+from tockbmc.model import ast
+from tockbmc.model.csp import CspError, Definition, pos_of
+
+
+class _Other:
+    """A value the specification does not mention."""
+
+    def __repr__(self) -> str:
+        return "…"
+
+
+OTHER = _Other()
+TOCK: tuple = ("tock",)
+Event = tuple  # ("EXAX::move", "in", value, …): a channel's canonical name, then its fields
+
+
+@dataclass(frozen=True)
+class Input:
+    """`?x` in a prefix: binds x to the field's value."""
+
+    name: str
+
+
+class Any_:
+    """Every value of a field (from enumerating `{| c |}`)."""
+
+    def __repr__(self) -> str:
+        return "_"
+
+
+ANY = Any_()
+
+
+# ---------------------------------------------------------------- event sets
+
+
+@dataclass(frozen=True)
+class EventSet:
+    """A set of events: `Events`, `{| c, … |}` (prefixes), `{ e, … }` (exact), and set algebra."""
+
+    kind: str  # all | closure | exact | union | diff | inter
+    items: tuple = ()
+
+    def contains(self, e: Event) -> bool:
+        if self.kind == "all":
+            return True
+        if self.kind == "closure":
+            return any(_extends(e, p) for p in self.items)
+        if self.kind == "exact":
+            return any(len(e) == len(p) and _extends(e, p) for p in self.items)
+        a, b = self.items
+        if self.kind == "union":
+            return a.contains(e) or b.contains(e)
+        if self.kind == "inter":
+            return a.contains(e) and b.contains(e)
+        return a.contains(e) and not b.contains(e)
+
+    def mentions(self) -> set[Event]:
+        if self.kind in ("closure", "exact"):
+            return set(self.items)
+        if self.kind == "all":
+            return set()
+        return self.items[0].mentions() | self.items[1].mentions()
+
+
+def _extends(e: Event, prefix: Event) -> bool:
+    if len(e) < len(prefix):
+        return False
+    return all(p is ANY or _same(x, p) for x, p in zip(e, prefix, strict=False))
+
+
+def _same(a: object, b: object) -> bool:
+    if a is OTHER or b is OTHER:
+        return False
+    return bool(a == b)
+
+
+EVENTS = EventSet("all")
+
+
+# ---------------------------------------------------------------- environments and terms
+
+
+class Env:
+    """Names in scope: parameters and let-bound values, local definitions, and whether in `Timed`."""
+
+    def __init__(self, values: dict[str, object], defs: dict[str, Definition], timed: bool,
+                 parent: Env | None = None):
+        self.values, self.defs, self.timed, self.parent = values, defs, timed, parent
+        self._key = (tuple(sorted((k, _key(v)) for k, v in values.items())),
+                     tuple(sorted((k, id(d.body)) for k, d in defs.items())), timed,
+                     parent._key if parent else None)
+
+    def lookup(self, name: str) -> tuple[str, object] | None:
+        env: Env | None = self
+        while env is not None:
+            if name in env.values:
+                return "value", env.values[name]
+            if name in env.defs:
+                return "def", (env.defs[name], env)
+            env = env.parent
+        return None
+
+    def __hash__(self) -> int:
+        return hash(self._key)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Env) and self._key == other._key
+
+
+def _key(v: object) -> object:
+    return v if not isinstance(v, (Tree, Env)) else id(v)
+
+
+class Proc:
+    """A specification process term."""
+
+
+@dataclass(frozen=True, eq=False)
+class Thunk(Proc):
+    """An expression not evaluated yet (so recursion unfolds only when it is reached)."""
+
+    tree: Tree
+    env: Env
+
+    def __hash__(self) -> int:
+        return hash((id(self.tree), self.env))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Thunk) and self.tree is other.tree and self.env == other.env
+
+
+@dataclass(frozen=True)
+class Stop(Proc):
+    timed: bool  # in a Timed section STOP lets time pass; outside it refuses tock
+
+
+@dataclass(frozen=True)
+class Skip(Proc):
+    pass
+
+
+@dataclass(frozen=True)
+class Omega(Proc):
+    """Terminated."""
+
+
+@dataclass(frozen=True)
+class Run(Proc):
+    events: EventSet
+    timed: bool  # RUN and CHAOS have the same traces
+
+
+@dataclass(frozen=True)
+class Wait(Proc):
+    n: int
+
+
+@dataclass(frozen=True)
+class Prefix(Proc):
+    pattern: tuple
+    then: Tree
+    env: Env
+    timed: bool
+
+    def __hash__(self) -> int:
+        return hash((self.pattern, id(self.then), self.env, self.timed))
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Prefix) and self.pattern == other.pattern and self.then is other.then
+                and self.env == other.env and self.timed == other.timed)
+
+
+@dataclass(frozen=True)
+class Binary(Proc):
+    """external | internal | seq | interrupt | timeout | parallel | exception | hide."""
+
+    op: str
+    left: Proc
+    right: Proc | None = None
+    events: EventSet | None = None
+    timed: bool = False
+
+
+@dataclass(frozen=True)
+class Deadline(Proc):
+    """ADeadline(A, d) (`event` False) and EDeadline(e, d) (`event` True) after `n` tocks."""
+
+    events: EventSet
+    d: int
+    n: int
+    event: bool
+
+
+@dataclass(frozen=True)
+class EndBy(Proc):
+    """P must terminate before d + 1 tocks have passed (EndBy and Deadline)."""
+
+    p: Proc
+    d: int
+    n: int
+
+
+# ---------------------------------------------------------------- evaluation
+
+
+class ModelProcess:
+    """`M::D__(id, …)`: an element of the model, met where only a specification may be."""
+
+    def __init__(self, name: str, args: tuple[object, ...], node: Tree):
+        self.name, self.args, self.node = name, args, node
+
+
+class Evaluator:
+    """Evaluates CSP expressions; `lookup_top` finds top-level definitions by name."""
+
+    def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock):
+        self.lookup_top = lookup_top
+        self.block = block
+
+    def error(self, node: Tree | Token, what: str) -> CspError:
+        return CspError(pos_of(self.block, node), what)
+
+    def definition(self, d: Definition, args: tuple[object, ...] = ()) -> object:
+        if len(args) != len(d.params):
+            raise CspError(d.pos, f"'{d.name}' takes {len(d.params)} arguments, not {len(args)}")
+        self.block = d.block
+        env = Env(dict(zip(d.params, args, strict=True)), {}, d.timed)
+        return self.eval(d.body, env)
+
+    def eval(self, t: Tree | Token, env: Env) -> object:  # noqa: C901 - one case per construct
+        if isinstance(t, Token):
+            return str(t)
+        k = t.data
+        c = t.children
+        if k == "name":
+            return self.name(c[0], env)
+        if k == "number":
+            return int(str(c[0]))
+        if k == "true":
+            return True
+        if k == "false":
+            return False
+        if k == "tuple":
+            return tuple(self.eval(x, env) for x in c)
+        if k == "closure":
+            return EventSet("closure", tuple(self.event(x, env) for x in c))
+        if k == "set":
+            items = [self.eval(x, env) for x in c]
+            if all(isinstance(x, tuple) for x in items):
+                return EventSet("exact", tuple(items))
+            return frozenset(items)
+        if k == "interval":
+            lo, hi = self.number(c[0], env), self.number(c[1], env)
+            return frozenset(range(lo, hi + 1))
+        if k == "dot":
+            head = self.eval(c[0], env)
+            if not isinstance(head, tuple):
+                raise self.error(t, "'.' builds events; its left side must be a channel")
+            return (*head, self.field(c[1], env))
+        if k == "comm":
+            return self.pattern(t, env)
+        if k in ("or_", "and_"):
+            a = self.boolean(c[0], env)
+            if k == "or_" and a or k == "and_" and not a:
+                return a
+            return self.boolean(c[1], env)
+        if k == "not_":
+            return not self.boolean(c[0], env)
+        if k == "compare":
+            a, op, b = self.eval(c[0], env), str(c[1]), self.eval(c[2], env)
+            _no_other(self, t, a, b)
+            return {"==": a == b, "!=": a != b, "<": a < b, "<=": a <= b, ">": a > b,  # type: ignore[operator]
+                    ">=": a >= b}[op]  # type: ignore[operator]
+        if k == "arith":
+            a, op, b = self.number(c[0], env), str(c[1]), self.number(c[2], env)
+            if op in "/%" and b == 0:
+                raise self.error(t, "division by zero")
+            return {"+": a + b, "-": a - b, "*": a * b, "/": _div(a, b), "%": a % b}[op]
+        if k == "negate":
+            return -self.number(c[0], env)
+        if k == "if_":
+            return self.eval(c[1] if self.boolean(c[0], env) else c[2], env)
+        if k == "let":
+            defs = {d.name: d for d in (self._local(x) for x in c[:-1])}
+            return self.eval(c[-1], Env({}, defs, env.timed, env))
+        if k == "apply":
+            return self.apply(t, env)
+        if k == "prefix":
+            return Prefix(self.pattern(c[0], env), c[1], env, env.timed)
+        if k == "guard":
+            return self.proc(c[1], env) if self.boolean(c[0], env) else Stop(env.timed)
+        if k in ("external", "internal", "seq", "interrupt", "timeout"):
+            return Binary(k, self.proc(c[0], env), self.proc(c[1], env), None, env.timed)
+        if k in ("parallel", "exception"):
+            return Binary(k, self.proc(c[0], env), self.proc(c[2], env), self.events(c[1], env), env.timed)
+        if k == "interleave":
+            return Binary("parallel", self.proc(c[0], env), self.proc(c[1], env), EventSet("exact"), env.timed)
+        if k == "hide":
+            return Binary("hide", self.proc(c[0], env), None, self.events(c[1], env), env.timed)
+        if k == "project":
+            kept = self.events(c[1], env)
+            return Binary("hide", self.proc(c[0], env), None, EventSet("diff", (EVENTS, kept)), env.timed)
+        if k == "replicated":
+            return self.replicated(t, env)
+        if k == "rename":
+            raise self.error(t, "renaming '[[ … ]]' is outside the CSP subset tockbmc understands")
+        raise self.error(t, f"'{k}' is outside the CSP subset tockbmc understands")
+
+    def _local(self, t: Tree) -> Definition:
+        from tockbmc.model.csp import definition
+        return definition(self.block, t, False)
+
+    def name(self, tok: Token, env: Env) -> object:
+        name = str(tok)
+        found = env.lookup(name)
+        if found is not None:
+            kind, value = found
+            if kind == "value":
+                return value
+            d, denv = value  # type: ignore[misc]
+            return self._use(d, Env({}, {}, denv.timed or d.timed, denv), ())
+        if name == "STOP":
+            return Stop(env.timed)
+        if name == "USTOP":
+            return Stop(False)
+        if name == "SKIP":
+            return Skip()
+        if name == "Events":
+            return EVENTS
+        if name in ("in", "out"):
+            return name
+        if name == "tock":
+            return TOCK
+        top = self.lookup_top(name)
+        if top is not None:
+            return self._use(top, Env({}, {}, top.timed), ())
+        if "::" in name:
+            return (canonical(name),)
+        raise self.error(tok, f"unknown name '{name}'")
+
+    def _use(self, d: Definition, env: Env, args: tuple[object, ...]) -> object:
+        """A definition applied to arguments: processes stay unevaluated (recursion), values are computed."""
+        if len(args) != len(d.params):
+            raise CspError(d.pos, f"'{d.name}' takes {len(d.params)} arguments, not {len(args)}")
+        inner = Env(dict(zip(d.params, args, strict=True)), {}, env.timed or d.timed, env)
+        if _is_process(d.body):
+            return Thunk(d.body, inner)
+        return self.eval(d.body, inner)
+
+    def apply(self, t: Tree, env: Env) -> object:
+        head, *args_t = t.children
+        if head.data != "name":
+            raise self.error(t, "only named processes and functions can be applied")
+        name = str(head.children[0])
+        if name.endswith("::D__") or name.endswith("::O__"):
+            return ModelProcess(name[:-5], tuple(self.eval(a, env) for a in args_t), t)
+        args = tuple(self.eval(a, env) for a in args_t)
+        found = env.lookup(name)
+        if found is not None and found[0] == "def":
+            d, denv = found[1]  # type: ignore[misc]
+            return self._use(d, denv, args)
+        top = self.lookup_top(name) if found is None else None
+        if top is not None:
+            return self._use(top, Env({}, {}, top.timed), args)
+        builtin = _BUILTINS.get(name)
+        if builtin is None:
+            raise self.error(t, f"'{name}' is outside the CSP subset tockbmc understands")
+        try:
+            return builtin(env.timed, *args)
+        except (TypeError, ValueError):
+            raise self.error(t, f"wrong arguments for '{name}'") from None
+
+    def replicated(self, t: Tree, env: Env) -> Proc:
+        op, var, over, body = t.children
+        op_text = str(op.children[0])
+        values = self.eval(over, env)
+        if isinstance(values, EventSet):
+            if values.kind not in ("closure", "exact"):
+                raise self.error(t, "replicated operators range over listed events only")
+            members: list[object] = [(*p, ANY) if values.kind == "closure" else p for p in values.items]
+        elif isinstance(values, frozenset):
+            members = sorted(values)  # type: ignore[type-var]
+        else:
+            raise self.error(over, "a replicated operator needs a set")
+        procs = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
+        if not procs:
+            return Stop(env.timed)
+        kind = {"|~|": "internal", "[]": "external", "|||": "parallel"}[op_text]
+        out: Proc = procs[0]
+        for p in procs[1:]:
+            out = Binary(kind, out, p, EventSet("exact") if kind == "parallel" else None, env.timed)
+        return out
+
+    # --- typed views
+
+    def proc(self, t: Tree, env: Env) -> Proc:
+        if _is_process(t):
+            return Thunk(t, env)
+        v = self.eval(t, env)
+        if isinstance(v, ModelProcess):
+            raise self.error(t, "a model process inside a specification or under this operator is not supported")
+        if not isinstance(v, Proc):
+            raise self.error(t, "expected a process")
+        return v
+
+    def events(self, t: Tree, env: Env) -> EventSet:
+        v = self.eval(t, env)
+        if isinstance(v, tuple):
+            return EventSet("exact", (v,))
+        if not isinstance(v, EventSet):
+            raise self.error(t, "expected a set of events")
+        return v
+
+    def event(self, t: Tree, env: Env) -> Event:
+        v = self.eval(t, env)
+        if not isinstance(v, tuple):
+            raise self.error(t, "expected an event or a channel")
+        return v
+
+    def number(self, t: Tree, env: Env) -> int:
+        v = self.eval(t, env)
+        if v is OTHER:
+            raise self.error(t, "this value comes from an input the specification does not track")
+        if not isinstance(v, (int, Fraction)) or isinstance(v, bool):
+            raise self.error(t, "expected a number")
+        return v  # type: ignore[return-value]
+
+    def boolean(self, t: Tree, env: Env) -> bool:
+        v = self.eval(t, env)
+        if not isinstance(v, bool):
+            raise self.error(t, "expected a boolean")
+        return v
+
+    def field(self, t: Tree, env: Env) -> object:
+        v = self.eval(t, env)
+        if v is OTHER:
+            raise self.error(t, "this value comes from an input the specification does not track")
+        return v
+
+    def pattern(self, t: Tree, env: Env) -> tuple:
+        c = t.children
+        base = self.eval(c[0], env)
+        if not isinstance(base, tuple):
+            raise self.error(t, "expected an event")
+        out = list(base)
+        i = 1
+        while i < len(c):
+            kind, arg = str(c[i]), c[i + 1]
+            out.append(Input(str(arg)) if kind == "?" else self.field(arg, env))
+            i += 2
+        return tuple(out)
+
+
+def _div(a: int, b: int) -> int:
+    q = abs(a) // abs(b)  # CSPM's `/` truncates towards zero
+    return q if (a >= 0) == (b >= 0) else -q
+
+
+def _no_other(ev: Evaluator, t: Tree, *values: object) -> None:
+    if any(v is OTHER for v in values):
+        raise ev.error(t, "this value comes from an input the specification does not track")
+
+
+_PROCESS_NODES = {"prefix", "guard", "external", "internal", "seq", "interrupt", "timeout", "parallel",
+                  "exception", "interleave", "hide", "project", "replicated"}
+
+
+def _is_process(t: Tree | Token) -> bool:
+    """Whether an expression is a process by its shape (so it can stay unevaluated)."""
+    return isinstance(t, Tree) and t.data in _PROCESS_NODES
+
+
+def _chaos(timed: bool, a: EventSet) -> Proc:
+    return Run(a, timed)
+
+
+def _wait(timed: bool, n: int) -> Proc:
+    return Wait(n)
+
+
+def _edeadline(timed: bool, e: Event, d: int) -> Proc:
+    return Deadline(EventSet("exact", (e,)) if isinstance(e, tuple) else e, d, 0, True)
+
+
+def _adeadline(timed: bool, a: EventSet, d: int) -> Proc:
+    return Deadline(a, d, 0, False)
+
+
+def _endby(timed: bool, p: Proc, d: int) -> Proc:
+    return EndBy(p, d, 0)
+
+
+def _set_op(kind: str) -> Callable[..., EventSet]:
+    return lambda timed, a, b: EventSet(kind, (a, b))
+
+
+_BUILTINS: dict[str, Callable[..., object]] = {
+    "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
+    "EndBy": _endby, "Deadline": _endby, "timed_priority": lambda timed, p: p,
+    "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
+}
+
+
+# ---------------------------------------------------------------- operational semantics
+
+
+@dataclass
+class Semantics:
+    """Steps of specification terms; `force` evaluates thunks (and bounds unguarded recursion)."""
+
+    evaluator: Evaluator
+    _forced: dict[Proc, Proc] = field(default_factory=dict)
+
+    def force(self, p: Proc, depth: int = 0) -> Proc:
+        if not isinstance(p, Thunk):
+            return p
+        if p in self._forced:
+            return self._forced[p]
+        if depth > 200:
+            raise self.evaluator.error(p.tree, "unguarded recursion")
+        v = self.evaluator.eval(p.tree, p.env)
+        if isinstance(v, ModelProcess):
+            raise self.evaluator.error(v.node, "a model process inside a specification or under this operator "
+                                               "is not supported")
+        if not isinstance(v, Proc):
+            raise self.evaluator.error(p.tree, "expected a process")
+        out = self.force(v, depth + 1)
+        self._forced[p] = out
+        return out
+
+    def ticks(self, p: Proc) -> bool:
+        p = self.force(p)
+        if isinstance(p, Skip):
+            return True
+        if isinstance(p, Wait):
+            return p.n <= 0
+        if isinstance(p, EndBy):
+            return self.ticks(p.p)
+        if isinstance(p, Binary):
+            if p.op in ("external", "interrupt", "exception", "timeout", "hide"):
+                return self.ticks(p.left)
+            if p.op == "parallel":
+                return isinstance(self.force(p.left), Omega) and isinstance(self.force(p.right), Omega)  # type: ignore[arg-type]
+        return False
+
+    def taus(self, p: Proc) -> list[Proc]:  # noqa: C901 - one case per operator
+        p = self.force(p)
+        if isinstance(p, Deadline) and p.event is False:
+            return []
+        if isinstance(p, EndBy):
+            return [EndBy(q, p.d, p.n) for q in self.taus(p.p)] + ([Omega()] if self.ticks(p.p) else [])
+        if not isinstance(p, Binary):
+            return []
+        left, right = p.left, p.right
+        if p.op == "internal":
+            return [left, right]  # type: ignore[list-item]
+        out: list[Proc] = []
+        if p.op == "seq":
+            out += [Binary("seq", q, right, None, p.timed) for q in self.taus(left)]
+            if self.ticks(left):
+                out.append(right)  # type: ignore[arg-type]
+            return out
+        if p.op == "hide":
+            assert p.events is not None
+            out += [Binary("hide", q, None, p.events, p.timed) for q in self.taus(left)]
+            for _e, q in self._visible_moves(left, p.events):
+                out.append(Binary("hide", q, None, p.events, p.timed))
+            return out
+        if p.op in ("external", "interrupt", "exception"):
+            out += [Binary(p.op, q, right, p.events, p.timed) for q in self.taus(left)]
+            if p.op != "exception":
+                out += [Binary(p.op, left, q, p.events, p.timed) for q in self.taus(right)]  # type: ignore[arg-type]
+            return out
+        if p.op == "timeout":
+            return [Binary("timeout", q, right, None, p.timed) for q in self.taus(left)] + [right]  # type: ignore[list-item]
+        if p.op == "parallel":
+            assert right is not None
+            out += [Binary("parallel", q, right, p.events, p.timed) for q in self.taus(left)]
+            out += [Binary("parallel", left, q, p.events, p.timed) for q in self.taus(right)]
+            if self.ticks(left) and not isinstance(self.force(left), Omega):
+                out.append(Binary("parallel", Omega(), right, p.events, p.timed))
+            if self.ticks(right) and not isinstance(self.force(right), Omega):
+                out.append(Binary("parallel", left, Omega(), p.events, p.timed))
+            return out
+        return out
+
+    def _visible_moves(self, p: Proc, hidden: EventSet) -> list[tuple[Event, Proc]]:
+        """Moves of p on the events of `hidden` that p's terms mention (for hiding)."""
+        out = []
+        for e in sorted(self.mentions(p) | {TOCK}, key=repr):
+            concrete = tuple(OTHER if x is ANY else x for x in e)
+            if hidden.contains(concrete) and not any(isinstance(x, Input) for x in concrete):
+                out += [(concrete, q) for q in self.after(p, concrete)]
+        return out
+
+    def stable(self, p: Proc) -> bool:
+        return not self.taus(p) and not self.ticks(p)
+
+    def after(self, p: Proc, e: Event) -> list[Proc]:  # noqa: C901 - one case per operator
+        """Successors of p on visible event e (tock included); maximal progress is the caller's."""
+        p = self.force(p)
+        tock = e == TOCK
+        if isinstance(p, Stop):
+            return [p] if tock and p.timed else []
+        if isinstance(p, (Skip, Omega)):
+            return []
+        if isinstance(p, Run):
+            return [p] if p.events.contains(e) or (tock and p.timed) else []
+        if isinstance(p, Wait):
+            return [Wait(p.n - 1)] if tock and p.n > 0 else []
+        if isinstance(p, Deadline):
+            if tock:
+                return [Deadline(p.events, p.d, p.n + 1, p.event)] if p.n < p.d else []
+            if p.events.contains(e):
+                return [Skip()]
+            return [] if p.event else [p]
+        if isinstance(p, EndBy):
+            if tock and p.n >= p.d:
+                return []
+            return [EndBy(q, p.d, p.n + (1 if tock else 0)) for q in self.after(p.p, e)]
+        if isinstance(p, Prefix):
+            if tock and p.timed:
+                return [p]
+            bound = _match(p.pattern, e)
+            if bound is None:
+                return []
+            env = Env(bound, {}, p.env.timed, p.env) if bound else p.env
+            return [self.evaluator.proc(p.then, env)]
+        assert isinstance(p, Binary)
+        left, right, op = p.left, p.right, p.op
+        if op == "internal":
+            return []
+        if op == "seq":
+            return [Binary("seq", q, right, None, p.timed) for q in self.after(left, e)]
+        if op == "hide":
+            assert p.events is not None
+            if p.events.contains(e):
+                return []
+            return [Binary("hide", q, None, p.events, p.timed) for q in self.after(left, e)]
+        assert right is not None
+        if op == "external" or op == "interrupt":
+            if tock and p.timed:
+                return [Binary(op, a, b, None, p.timed) for a in self.after(left, e) for b in self.after(right, e)]
+            out = [Binary(op, q, right, None, p.timed) if op == "interrupt" else q for q in self.after(left, e)]
+            return out + self.after(right, e)
+        if op == "timeout":
+            return self.after(left, e)
+        if op == "exception":
+            assert p.events is not None
+            if p.events.contains(e) and not tock:
+                return [right for _ in self.after(left, e)][:1]
+            return [Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
+        # parallel
+        assert p.events is not None
+        if p.events.contains(e) or (tock and p.timed):
+            return [Binary(op, a, b, p.events, p.timed) for a in self.after(left, e) for b in self.after(right, e)]
+        return ([Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
+                + [Binary(op, left, q, p.events, p.timed) for q in self.after(right, e)])
+
+    def mentions(self, p: Proc) -> set[Event]:
+        """Events (with values) that p's current terms name, so the monitor can tell them apart."""
+        p = self.force(p)
+        if isinstance(p, Prefix):
+            return {tuple(ANY if isinstance(x, Input) else x for x in p.pattern)}
+        if isinstance(p, Run):
+            return p.events.mentions()
+        if isinstance(p, Deadline):
+            return p.events.mentions()
+        if isinstance(p, EndBy):
+            return self.mentions(p.p)
+        if isinstance(p, Binary):
+            out = self.mentions(p.left)
+            if p.right is not None and p.op not in ("seq",):
+                out |= self.mentions(p.right)
+            if p.events is not None:
+                out |= p.events.mentions()
+            return out
+        return set()
+
+
+def _match(pattern: tuple, e: Event) -> dict[str, object] | None:
+    if pattern and pattern[-1] is ANY:  # from enumerating `{| c |}`: any fields after the channel's
+        pattern = pattern[:-1]
+        e = e[: len(pattern)]
+    if len(pattern) != len(e):
+        return None
+    bound: dict[str, object] = {}
+    for p, x in zip(pattern, e, strict=True):
+        if isinstance(p, Input):
+            bound[p.name] = x
+        elif p is ANY:
+            continue
+        elif not _same(x, p):
+            return None
+    return bound
+
+
+# ---------------------------------------------------------------- the monitor
+
+
+@dataclass(frozen=True)
+class Channel:
+    """An implementation event class: its fixed fields, and how many value fields follow."""
+
+    prefix: Event
+    arity: int
+
+
+class TooLarge(Exception):
+    pass
+
+
+class Monitor:
+    """The determinised specification: states are τ-closed sets of terms, numbered from 0.
+
+    `DEAD` is the state after a trace the specification cannot do.
+    """
+
+    DEAD = -1
+
+    def __init__(self, sem: Semantics, root: Proc, channels: Iterable[Channel], limit: int = 5000):
+        self.sem = sem
+        self.channels = list(channels)
+        self.limit = limit
+        self.states: list[frozenset[Proc]] = []
+        self.index: dict[frozenset[Proc], int] = {}
+        self.initial = self._state(self._closure([root]))
+
+    def _closure(self, procs: Iterable[Proc]) -> frozenset[Proc]:
+        seen: set[Proc] = set()
+        todo = [self.sem.force(p) for p in procs]
+        while todo:
+            p = todo.pop()
+            if p in seen:
+                continue
+            seen.add(p)
+            if len(seen) > self.limit:
+                raise TooLarge
+            todo += [self.sem.force(q) for q in self.sem.taus(p)]
+        return frozenset(seen)
+
+    def _state(self, s: frozenset[Proc]) -> int:
+        if not s:
+            return self.DEAD
+        if s not in self.index:
+            if len(self.states) >= self.limit:
+                raise TooLarge
+            self.index[s] = len(self.states)
+            self.states.append(s)
+        return self.index[s]
+
+    def can_tick(self, state: int) -> bool:
+        return state != self.DEAD and any(self.sem.ticks(p) for p in self.states[state])
+
+    def values(self, state: int, ch: Channel) -> list[tuple]:
+        """The value tuples of `ch` that the terms of `state` tell apart, `OTHER` last."""
+        out = []
+        if state != self.DEAD:
+            n = len(ch.prefix)
+            for e in set().union(*(self.sem.mentions(p) for p in self.states[state])):
+                if len(e) == n + ch.arity and _extends(ch.prefix, e[:n]) and all(x is not ANY for x in e[n:]):
+                    out.append(tuple(e[n:]))
+        return sorted(set(out), key=repr) + [tuple(OTHER for _ in range(ch.arity))]
+
+    def after(self, state: int, e: Event) -> int:
+        if state == self.DEAD:
+            return self.DEAD
+        procs = self.states[state]
+        if e == TOCK:  # maximal progress: only stable terms let time pass
+            procs = frozenset(p for p in procs if self.sem.stable(p))
+        return self._state(self._closure(q for p in procs for q in self.sem.after(p, e)))
+
+    def table(self) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
+        """δ for every reachable state and channel: [(values, next state)], explored to a fixpoint."""
+        out: dict[tuple[int, int], list[tuple[tuple, int]]] = {}
+        i = 0
+        while i < len(self.states):
+            for c, ch in enumerate(self.channels):
+                out[(i, c)] = [(vs, self.after(i, (*ch.prefix, *vs))) for vs in self.values(i, ch)]
+            i += 1
+        return out
