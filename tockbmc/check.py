@@ -13,6 +13,7 @@ from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError
+from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import NotSupported, query
 from tockbmc.report.trace import decode
 
@@ -62,6 +63,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
             if outcome.status == "found":
                 assert outcome.model is not None
                 trace = decode(system, outcome.model, outcome.depth)
+                if isinstance(system.extension, MonitorExtension):
+                    trace = system.extension.around(system, outcome.model, outcome.depth, trace)
                 why = goal.describe(system, outcome.model, outcome.depth)
                 if goal.found == "holds" and reasons:  # earlier goals found nothing wrong
                     why = "; ".join([*reasons, f"witness: {why}"])

@@ -17,10 +17,12 @@ from dataclasses import dataclass, field
 import z3
 from lark import Tree
 
+from tockbmc.bmc.result import TraceStep
 from tockbmc.encodings.system import System
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, pos_of
 from tockbmc.properties.spec import (
+    ANY,
     EVENTS,
     OTHER,
     TOCK,
@@ -29,6 +31,7 @@ from tockbmc.properties.spec import (
     Env,
     Evaluator,
     EventSet,
+    Input,
     ModelProcess,
     Monitor,
     Proc,
@@ -52,18 +55,22 @@ class Implementation:
     continues: bool = False  # something other than ✓ follows the element's termination
 
 
-def implementation(ev: Evaluator, t: Tree, env: Env) -> Implementation | Proc:
-    """Walk an expression: an `Implementation` if it contains a model process, else a specification term."""
+def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = frozenset()) -> Implementation | Proc:
+    """Walk an expression: an `Implementation` if it contains a model process, else a specification term.
+
+    `seen` holds the definitions being unfolded: a recursive one is a specification (a model
+    process under recursion is not supported).
+    """
     k = t.data
     c = t.children
     if k == "name":
         found = env.lookup(str(c[0]))
         if found is not None and found[0] == "def":
             d, denv = found[1]  # type: ignore[misc]
-            return _definition(ev, d, Env({}, {}, denv.timed or d.timed, denv), ())
+            return _definition(ev, d, Env({}, {}, denv.timed or d.timed, denv), (), seen)
         top = ev.lookup_top(str(c[0])) if found is None else None
         if top is not None:
-            return _definition(ev, top, Env({}, {}, top.timed), ())
+            return _definition(ev, top, Env({}, {}, top.timed), (), seen)
         return ev.proc(t, env)
     if k == "apply":
         head = c[0]
@@ -71,20 +78,20 @@ def implementation(ev: Evaluator, t: Tree, env: Env) -> Implementation | Proc:
         if name.endswith("::D__") or name.endswith("::O__"):
             return Implementation(name[:-5], tuple(ev.eval(a, env) for a in c[1:]), pos_of(ev.block, t))
         if name == "timed_priority" and len(c) == 2:
-            return implementation(ev, c[1], env)
+            return implementation(ev, c[1], env, seen)
         found = env.lookup(name)
         d = found[1][0] if found is not None and found[0] == "def" else ev.lookup_top(name)  # type: ignore[index]
         if d is not None:
-            return _definition(ev, d, env, tuple(ev.eval(a, env) for a in c[1:]))
+            return _definition(ev, d, env, tuple(ev.eval(a, env) for a in c[1:]), seen)
         return ev.proc(t, env)
     if k == "let":
         defs = {d.name: d for d in (ev._local(x) for x in c[:-1])}
-        return implementation(ev, c[-1], Env({}, defs, env.timed, env))
+        return implementation(ev, c[-1], Env({}, defs, env.timed, env), seen)
     if k == "if_":
-        return implementation(ev, c[1] if ev.boolean(c[0], env) else c[2], env)
+        return implementation(ev, c[1] if ev.boolean(c[0], env) else c[2], env, seen)
     if k in ("hide", "project", "parallel", "seq", "prefix"):
         inner_t = c[1] if k == "prefix" else c[0]
-        inner = implementation(ev, inner_t, env)
+        inner = implementation(ev, inner_t, env, seen)
         if not isinstance(inner, Implementation):
             return ev.proc(t, env)
         if k in ("hide", "project"):
@@ -115,15 +122,15 @@ def implementation(ev: Evaluator, t: Tree, env: Env) -> Implementation | Proc:
         return inner
     if k in ("external", "internal", "interrupt", "timeout", "exception", "interleave", "replicated"):
         for x in c:
-            if isinstance(x, Tree) and isinstance(_peek(ev, x, env), Implementation):
+            if isinstance(x, Tree) and isinstance(_peek(ev, x, env, seen), Implementation):
                 raise ev.error(t, f"a model process under '{k}' is not supported; only hiding, projection, "
                                   "[| A |] SKIP/STOP, ';' and prefix may be applied to it")
     return ev.proc(t, env)
 
 
-def _peek(ev: Evaluator, t: Tree, env: Env) -> object:
+def _peek(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int]) -> object:
     try:
-        return implementation(ev, t, env)
+        return implementation(ev, t, env, seen)
     except CspError:
         return None
 
@@ -132,12 +139,15 @@ def _concrete(x: object) -> bool:
     return isinstance(x, (int, bool, str))
 
 
-def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]) -> Implementation | Proc:
+def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...],
+                seen: frozenset[int]) -> Implementation | Proc:
+    if id(d.body) in seen:
+        return ev._use(d, env, args)  # type: ignore[return-value]
     if len(args) != len(d.params):
         raise CspError(d.pos, f"'{d.name}' takes {len(d.params)} arguments, not {len(args)}")
     ev.block = d.block
     inner = Env(dict(zip(d.params, args, strict=True)), {}, env.timed or d.timed, env)
-    return implementation(ev, d.body, inner)
+    return implementation(ev, d.body, inner, seen | {id(d.body)})
 
 
 def element_of(x: ModelProcess | Implementation) -> str:
@@ -159,6 +169,29 @@ class Context:
             if events.contains((*label, *(OTHER,) * arity)):
                 return "hidden" if kind == "hide" else "blocked"
         return "visible"
+
+    def tail_timelock(self) -> list[str] | None:
+        """Events after which what follows the element's termination refuses tock (✓ included), if any."""
+        sem = self.sem
+        todo: list[tuple[Proc, list[str]]] = [(self.impl.tail, [])]
+        seen: set[Proc] = set()
+        while todo and len(seen) < 5000:
+            p, trace = todo.pop(0)
+            p = sem.force(p)
+            if p in seen:
+                continue
+            seen.add(p)
+            if sem.ticks(p):
+                return [*trace, "✓"]
+            taus = sem.taus(p)
+            if not taus and not sem.after(p, TOCK):
+                return trace
+            todo += [(q, trace) for q in taus]
+            for e in sorted(_concrete_mentions(sem, p), key=repr):
+                todo += [(q, [*trace, _event_text(e)]) for q in sem.after(p, e)]
+            if not taus:
+                todo += [(q, [*trace, "tock"]) for q in sem.after(p, TOCK)]
+        return None
 
     def attach(self, system: System) -> MonitorExtension | None:
         if self.spec is None:
@@ -231,6 +264,18 @@ class MonitorExtension:
         ends = [mon == s for s in sorted(self.bad_end)]
         return z3.Or(mon == Monitor.DEAD, z3.And(system.halted(k), z3.Or(ends))) if ends else mon == Monitor.DEAD
 
+    def around(self, system: System, model: z3.ModelRef, k: int,
+               trace: tuple[TraceStep, ...]) -> tuple[TraceStep, ...]:
+        """A decoded run with the events before the element (a prefix) and after it (`P ; T`)."""
+        before = tuple(TraceStep(0, _event_text(e), "event", "before the model starts", {}, {})
+                       for e in self.context.impl.head)
+        state = model.eval(system.frame(k)["monitor"], model_completion=True).as_long()
+        last = trace[-1].states if trace else {}
+        after = tuple(TraceStep(k + 1 + j, e, "tock" if e == "tock" else "event",
+                                "after the model terminates", last, {})
+                      for j, e in enumerate(self.bad_end.get(state, [])))
+        return before + trace + after
+
     def _bad_end(self) -> dict[int, list[str]]:
         """Monitor states from which what follows the element's termination has a trace the spec refuses.
 
@@ -251,8 +296,7 @@ class MonitorExtension:
                     out[s] = [*trace, "✓"]
                     break
                 todo += [(r, q, trace) for r in sem.taus(p)]
-                events = {tuple(OTHER if x.__class__.__name__ in ("Any_", "Input") else x for x in e)
-                          for e in sem.mentions(p)}
+                events = _concrete_mentions(sem, p)
                 events |= {(*ch.prefix, *(OTHER,) * ch.arity) for ch in self.channels}
                 if sem.stable(p):
                     events.add(TOCK)
@@ -270,6 +314,11 @@ class MonitorExtension:
                     if s in out:
                         break
         return out
+
+
+def _concrete_mentions(sem: Semantics, p: Proc) -> set[tuple]:
+    """The events p names, with `OTHER` for fields it leaves open."""
+    return {tuple(OTHER if x is ANY or isinstance(x, Input) else x for x in e) for e in sem.mentions(p)}
 
 
 def _event_text(e: tuple) -> str:

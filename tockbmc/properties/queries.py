@@ -139,8 +139,10 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         return Query(a, element, (goal,), context=context, settings=settings)
     context = Context(impl, sem) if subject_is_process else None
     if context is not None and impl.continues:
-        raise NotSupported(f"'{subject}' runs a process after the model terminates; only refinement checks "
-                           "support that")
+        if a.kind != "timelock-free":
+            raise NotSupported(f"'{subject}' runs a process after the model terminates; only refinement and "
+                               "timelock-freedom checks support that")
+        return _timelock_after(a, element, name, context, settings)
     q = _query(a, element, name)
     return Query(a, element, q.goals, q.after, q.after_reason, context, settings)
 
@@ -173,6 +175,26 @@ def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Mo
             goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"))
         return Query(a, element, (goal,))
     raise NotSupported(f"'{a.kind}' assertions are not supported yet")
+
+
+def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str,
+                    context: Context, settings: tuple[tuple[str, ast.Expr], ...]) -> Query:
+    """Timelock-freedom of `P ; T`: a terminated element is a timelock only if what follows can be one."""
+    rest = context.tail_timelock()
+
+    def target(system: System, k: int) -> z3.BoolRef:
+        stable = z3.And(z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)))
+        return stable if rest is not None else z3.And(stable, z3.Not(system.halted(k)))
+
+    def describe(system: System, model: z3.ModelRef, k: int) -> str:
+        if z3.is_true(model.eval(system.halted(k), model_completion=True)):
+            after = " ".join(rest or []) or "nothing"
+            return f"{name} has terminated; what follows ({after}) then refuses tock"
+        return f"{name} refuses tock here"
+
+    goal = Goal(target, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
+                "violated" if a.negated else "holds", describe)
+    return Query(a, element, (goal,), context=context, settings=settings)
 
 
 def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
