@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from tockbmc.bmc.engine import bmc
 from tockbmc.bmc.result import Result
@@ -13,6 +13,7 @@ from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError
+from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import NotSupported, query
 from tockbmc.report.trace import decode
@@ -81,6 +82,27 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
             if verdict != "holds":
                 return result(verdict, why)
             reasons.append(why)
+        if q.inclusion is not None:
+            assert q.context is not None
+            context = q.context
+
+            def make(follower: Callable[[System], TraceFollower], tag: str) -> System:
+                return System(network, ranges, consts, tag=tag, context=Following(context, follower))
+
+            def remaining() -> float | None:
+                return None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
+
+            inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, bound, remaining)
+            if a.negated:
+                if inc.verdict == "violated":
+                    return result("holds", inc.reason, trace=inc.trace)
+                return result("unknown", f"{inc.reason}; a bounded search alone gives no verdict"
+                              if inc.verdict == "holds" else inc.reason, trace=inc.trace)
+            if inc.verdict != "holds":
+                return result(inc.verdict, inc.reason, trace=inc.trace)
+            reasons.append(inc.reason)
+    except Unenumerable as exc:
+        return result("unsupported", f"the traces of the specification cannot be listed: {exc}", searched=None)
     except NotSupported as exc:
         return result("unsupported", str(exc), searched=None)
     except (Unsupported, CspError) as exc:

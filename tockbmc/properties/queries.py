@@ -50,6 +50,8 @@ class Query:
     after_reason: str = ""
     context: Context | None = None  # the CSP operators around the element, and a monitor
     settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
+    inclusion: Proc | None = None  # a specification every trace of which must be the element's
+    spec_name: str = ""
 
 
 def terminated(system: System, k: int) -> z3.BoolRef:
@@ -105,38 +107,17 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         raise NotSupported("untimed assertions need RoboTool's untimed semantics, which is not built yet")
     if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
         raise NotSupported(f"the {a.semantic_model} model is not supported")
-    if a.kind == "equals":
-        raise NotSupported("'equals' needs both directions; the direction in which a model refines a "
-                           "specification's traces (every trace of the specification is one of the model's) "
-                           "is not built yet")
-    subject, subject_is_process = (a.other, a.other_is_process) if a.kind == "reachable" else (a.subject,
-                                                                                               a.subject_is_process)
     ev = Evaluator(_top_level(project), _any_block(project))
     sem = Semantics(ev)
-    if subject_is_process:
-        impl = _process(ev, project, subject or "")
-        if not isinstance(impl, Implementation):
-            raise NotSupported(f"'{subject}' is a CSP process with no model element in it; checking a "
-                               "specification on its own is not supported")
-    else:
-        impl = Implementation(subject or "", (), a.pos)
-    element = _element(project, impl.element)
-    if element is None or isinstance(element, ast.OperationDef):
-        raise NotSupported(f"'{impl.element}' is an operation; operations are checked through the machines "
-                           "that call them, which is not encoded yet")
-    name = element.name
-    settings = _arguments(element, impl)
-    if a.kind == "refines":
-        if not a.other_is_process:
-            raise NotSupported("the specification must be a CSP process; refinement between two model elements "
-                               "is not built yet")
-        spec = _process(ev, project, a.other or "")
-        if not isinstance(spec, Proc):
-            raise NotSupported(f"the specification '{a.other}' contains a model element; only CSP "
-                               "specifications can be monitored")
-        context = Context(impl, sem, spec, a.other or "")
-        goal = _refinement_goal(a, name)
-        return Query(a, element, (goal,), context=context, settings=settings)
+    if a.kind in ("refines", "equals"):
+        return _refinement(project, a, ev, sem)
+    subject, subject_is_process = (a.other, a.other_is_process) if a.kind == "reachable" else (a.subject,
+                                                                                               a.subject_is_process)
+    impl = _side(ev, project, subject or "", subject_is_process, a.pos)
+    if not isinstance(impl, Implementation):
+        raise NotSupported(f"'{subject}' is a CSP process with no model element in it; checking a "
+                           "specification on its own is not supported")
+    element, name, settings = _resolve(project, impl)
     context = Context(impl, sem) if subject_is_process else None
     if context is not None and impl.continues:
         if a.kind != "timelock-free":
@@ -175,6 +156,46 @@ def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Mo
             goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"))
         return Query(a, element, (goal,))
     raise NotSupported(f"'{a.kind}' assertions are not supported yet")
+
+
+def _side(ev: Evaluator, project: ast.Project, name: str, is_process: bool, pos: ast.Pos) -> Implementation | Proc:
+    return _process(ev, project, name) if is_process else Implementation(name, (), pos)
+
+
+def _resolve(project: ast.Project, impl: Implementation) -> tuple[ast.StateMachine | ast.Controller | ast.Module,
+                                                                   str, tuple[tuple[str, ast.Expr], ...]]:
+    element = _element(project, impl.element)
+    if element is None or isinstance(element, ast.OperationDef):
+        raise NotSupported(f"'{impl.element}' is an operation; operations are checked through the machines "
+                           "that call them, which is not encoded yet")
+    return element, element.name, _arguments(element, impl)
+
+
+def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Semantics) -> Query:
+    """`P refines Q` and `P equals Q`: one side a model element in context, the other a CSP specification.
+
+    With the model on the left, a monitor of the specification runs beside it; with the model
+    on the right, the specification's traces are checked one by one (`properties.inclusion`).
+    """
+    left = _side(ev, project, a.subject, a.subject_is_process, a.pos)
+    right = _side(ev, project, a.other or "", a.other_is_process, a.pos)
+    if isinstance(left, Implementation) == isinstance(right, Implementation):
+        what = "two model elements" if isinstance(left, Implementation) else "two CSP specifications"
+        raise NotSupported(f"refinement between {what} is not supported; one side must be a model element "
+                           "(possibly in a CSP context) and the other a CSP specification")
+    impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)
+    assert isinstance(impl, Implementation) and isinstance(spec, Proc)
+    spec_name = a.other if impl is left else a.subject
+    element, name, settings = _resolve(project, impl)
+    goals: tuple[Goal, ...] = ()
+    if impl is left:
+        goals = (_refinement_goal(a, name),)
+    inclusion = a.kind == "equals" or impl is right
+    if inclusion and impl.continues:
+        raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a process "
+                           "follows the model's termination")
+    return Query(a, element, goals, context=Context(impl, sem, spec if goals else None, spec_name or ""),
+                 settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "")
 
 
 def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str,
