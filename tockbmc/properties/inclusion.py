@@ -122,6 +122,19 @@ def _matches(label: tuple, values: list, e: tuple) -> z3.BoolRef:
     return z3.And([_equals(v, x) for v, x in zip(values, e[len(label):], strict=True)])
 
 
+def _shortest_failing_prefix(make: Callable[[Callable[[System], TraceFollower] | None, str], System],
+                             t: SpecTrace, bound: int, timeout: Callable[[], float | None]) -> SpecTrace:
+    """The shortest prefix of t that the element provably cannot perform (t itself if none shorter)."""
+    for n in range(1, len(t.events) + 1):
+        prefix = SpecTrace(t.events[:n], t.ticks and n == len(t.events))
+        system = make(lambda s, p=prefix: TraceFollower(s, p), "")  # type: ignore[misc]
+        prover = lambda p=prefix: make(lambda s: TraceFollower(s, p), "k.")  # noqa: E731
+        outcome = bmc(system, lambda s, k: s.extension.done(s, k), bound, timeout(), prover)  # type: ignore[union-attr]
+        if outcome.status == "proved":
+            return prefix
+    return t
+
+
 class Following:
     """A CSP context whose extra state is a `TraceFollower` rather than a monitor."""
 
@@ -158,6 +171,8 @@ def included(make: Callable[[Callable[[System], TraceFollower] | None, str], Sys
         outcome = bmc(system, lambda s, k: s.extension.done(s, k), bound, timeout(), prover)  # type: ignore[union-attr]
         if outcome.status == "found":
             continue
+        if outcome.status == "proved":
+            t = _shortest_failing_prefix(make, t, bound, timeout)
         shown = [_event_text(e) for e in t.events] + (["✓"] if t.ticks else [])
         steps = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {spec_name}", {}, {})
                       for j, e in enumerate(shown))

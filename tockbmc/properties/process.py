@@ -167,6 +167,8 @@ class Context:
             if mentioned:
                 raise CspError(self.impl.pos, "hiding or blocking particular values of a channel is not supported")
             if events.contains((*label, *(OTHER,) * arity)):
+                if kind == "block" and label == TOCK:
+                    raise CspError(self.impl.pos, "blocking tock ([| {tock} |] SKIP) is not supported")
                 return "hidden" if kind == "hide" else "blocked"
         return "visible"
 

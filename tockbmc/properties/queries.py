@@ -240,11 +240,17 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
 
 def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
     def lookup(name: str) -> Definition | None:
-        for block in project.csp_blocks:
-            if name in block.defines:
-                for d in parse_block(block):
-                    if d.name == name:
-                        return d
+        # Blocks that seem to define the name first (their syntax errors are reported), then the
+        # others that parse (`defines` is found by a pattern, which misses `Timed(…) { N = …`).
+        for block in sorted(project.csp_blocks, key=lambda b: name not in b.defines):
+            try:
+                found = [d for d in parse_block(block) if d.name == name]
+            except CspError:
+                if name in block.defines:
+                    raise
+                continue
+            if found:
+                return found[0]
         return None
 
     return lookup

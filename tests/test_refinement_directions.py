@@ -1,0 +1,100 @@
+"""Refinement with the model on either side, and `equals` (semantics.md §3, §4).
+
+`M refines S` runs a monitor of S beside M; `S refines M` lists S's traces and asks, for each,
+whether M can perform it.  Verdicts and traces are derived by hand from the model below:
+M waits (letting time pass) for input a, then may output b, and then only lets time pass.
+Inside `Timed(OneStep)` a prefix and STOP let time pass too, so
+  traces(M)  = tock* a (tock* b)? tock*  (prefix-closed),
+  traces(S1) = the same, so M equals S1;
+  traces(S2) = tock* a tock*: M's <a, b> is not one of them;
+  traces(S3) = tock* a tock* b tock* a tock*: includes every trace of M, and <a, b, a>, which M cannot do.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from conftest import write_files
+
+import tockbmc
+from tockbmc.bmc.result import Result
+from tockbmc.check import check
+
+MODEL = """
+stm M {
+  event a
+  event b
+  initial i
+  state s {}
+  state t {}
+  transition t0 { from i to s }
+  transition t1 { from s to t trigger a action b }
+}
+"""
+
+SPECS = """
+timed csp S1 csp-begin
+Timed(OneStep) { S1 = M::a.in -> M::b.out -> STOP }
+csp-end
+timed csp S2 csp-begin
+Timed(OneStep) { S2 = M::a.in -> STOP }
+csp-end
+timed csp S3 csp-begin
+Timed(OneStep) { S3 = M::a.in -> M::b.out -> M::a.in -> STOP }
+csp-end
+"""
+
+
+def run(tmp_path: Path, assertions: str, bound: int = 10) -> dict[str, Result]:
+    write_files(tmp_path, {"m.rct": MODEL, "m.assertions": SPECS + assertions})
+    return {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=bound)}
+
+
+def visible(r: Result) -> list[str]:
+    return [s.event or "" for s in r.trace if s.kind != "internal"]
+
+
+def test_equals_holds_both_ways(tmp_path) -> None:
+    rs = run(tmp_path, "assertion E: M equals S1.\nassertion F: S1 equals M.\n")
+    assert rs["E"].verdict == "holds", rs["E"].reason
+    assert rs["F"].verdict == "holds", rs["F"].reason
+    assert "every trace of S1" in (rs["E"].reason or "")
+
+
+def test_model_with_a_trace_the_spec_lacks(tmp_path) -> None:
+    rs = run(tmp_path, "assertion R: M refines S2 in the traces model.\nassertion E: M equals S2.\n"
+                       "assertion Back: S2 refines M in the traces model.\n")
+    for name in ("R", "E"):
+        assert rs[name].verdict == "violated"
+        assert visible(rs[name]) == ["M::a.in", "M::b.out"]
+    assert rs["Back"].verdict == "holds"  # every trace of S2 is one of M's
+
+
+def test_spec_with_a_trace_the_model_lacks(tmp_path) -> None:
+    rs = run(tmp_path, "assertion R: M refines S3 in the traces model.\n"
+                       "assertion Back: S3 refines M in the traces model.\n"
+                       "assertion NotBack: S3 does not refine M in the traces model.\n"
+                       "assertion E: M equals S3.\n")
+    assert rs["R"].verdict == "holds"
+    for name, verdict in (("Back", "violated"), ("NotBack", "holds"), ("E", "violated")):
+        r = rs[name]
+        assert r.verdict == verdict, (name, r.verdict, r.reason)
+        events = [e for e in visible(r) if e != "tock"]
+        assert events == ["M::a.in", "M::b.out", "M::a.in"], (name, visible(r))
+
+
+def test_two_specifications_or_two_models_are_unsupported(tmp_path) -> None:
+    rs = run(tmp_path, "assertion SS: S1 refines S2 in the traces model.\n"
+                       "assertion MM: M refines M in the traces model.\n")
+    assert rs["SS"].verdict == rs["MM"].verdict == "unsupported"
+
+
+def test_blocking_tock_is_unsupported(tmp_path) -> None:
+    write_files(tmp_path, {"m.rct": MODEL, "m.assertions": SPECS + """
+timed csp B csp-begin
+B = M::D__(0) [| {| tock |} |] SKIP
+csp-end
+assertion T: B refines S1 in the traces model.
+"""})
+    [r] = check(tockbmc.load(tmp_path), bound=6)
+    assert r.verdict == "unsupported" and "tock" in (r.reason or "")
