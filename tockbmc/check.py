@@ -86,13 +86,14 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
             assert q.context is not None
             context = q.context
 
-            def make(follower: Callable[[System], TraceFollower], tag: str) -> System:
+            def make(follower: Callable[[System], TraceFollower] | None, tag: str) -> System:
+                assert follower is not None
                 return System(network, ranges, consts, tag=tag, context=Following(context, follower))
 
-            def remaining() -> float | None:
+            def time_left() -> float | None:
                 return None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
 
-            inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, bound, remaining)
+            inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, bound, time_left)
             if a.negated:
                 if inc.verdict == "violated":
                     return result("holds", inc.reason, trace=inc.trace)

@@ -68,8 +68,10 @@ def parse_block(block: ast.CspBlock) -> tuple[Definition, ...]:
         raise CspError(pos, "this CSP is outside the subset tockbmc understands (semantics.md §4)") from None
     out: list[Definition] = []
     for item in tree.children:
+        if not isinstance(item, Tree):
+            continue
         if item.data == "timed_section":
-            out += [definition(block, d, True) for d in item.children[1:]]
+            out += [definition(block, d, True) for d in item.children[1:] if isinstance(d, Tree)]
         elif item.data == "definition":
             out.append(definition(block, item, False))
     return tuple(out)

@@ -13,6 +13,7 @@ element, so `P refines Q` becomes "the monitor never reaches DEAD".
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import z3
 from lark import Tree
@@ -66,7 +67,7 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
     if k == "name":
         found = env.lookup(str(c[0]))
         if found is not None and found[0] == "def":
-            d, denv = found[1]  # type: ignore[misc]
+            d, denv = cast("tuple[Definition, Env]", found[1])
             return _definition(ev, d, Env({}, {}, denv.timed or d.timed, denv), (), seen)
         top = ev.lookup_top(str(c[0])) if found is None else None
         if top is not None:
@@ -80,9 +81,10 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
         if name == "timed_priority" and len(c) == 2:
             return implementation(ev, c[1], env, seen)
         found = env.lookup(name)
-        d = found[1][0] if found is not None and found[0] == "def" else ev.lookup_top(name)  # type: ignore[index]
-        if d is not None:
-            return _definition(ev, d, env, tuple(ev.eval(a, env) for a in c[1:]), seen)
+        used: Definition | None = (cast("tuple[Definition, Env]", found[1])[0]
+                                   if found is not None and found[0] == "def" else ev.lookup_top(name))
+        if used is not None:
+            return _definition(ev, used, env, tuple(ev.eval(a, env) for a in c[1:]), seen)
         return ev.proc(t, env)
     if k == "let":
         defs = {d.name: d for d in (ev._local(x) for x in c[:-1])}

@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import cast
 
 from lark import Token, Tree
 
@@ -112,7 +113,7 @@ class Env:
     def __init__(self, values: dict[str, object], defs: dict[str, Definition], timed: bool,
                  parent: Env | None = None):
         self.values, self.defs, self.timed, self.parent = values, defs, timed, parent
-        self._key = (tuple(sorted((k, _key(v)) for k, v in values.items())),
+        self._key: tuple = (tuple(sorted((k, _key(v)) for k, v in values.items())),
                      tuple(sorted((k, id(d.body)) for k, d in defs.items())), timed,
                      parent._key if parent else None)
 
@@ -259,7 +260,7 @@ class Evaluator:
         k = t.data
         c = t.children
         if k == "name":
-            return self.name(c[0], env)
+            return self.name(cast(Token, c[0]), env)
         if k == "number":
             return int(str(c[0]))
         if k == "true":
@@ -286,9 +287,9 @@ class Evaluator:
         if k == "comm":
             return self.pattern(t, env)
         if k in ("or_", "and_"):
-            a = self.boolean(c[0], env)
-            if k == "or_" and a or k == "and_" and not a:
-                return a
+            first = self.boolean(c[0], env)
+            if k == "or_" and first or k == "and_" and not first:
+                return first
             return self.boolean(c[1], env)
         if k == "not_":
             return not self.boolean(c[0], env)
@@ -298,10 +299,10 @@ class Evaluator:
             return {"==": a == b, "!=": a != b, "<": a < b, "<=": a <= b, ">": a > b,  # type: ignore[operator]
                     ">=": a >= b}[op]  # type: ignore[operator]
         if k == "arith":
-            a, op, b = self.number(c[0], env), str(c[1]), self.number(c[2], env)
-            if op in "/%" and b == 0:
+            x, op, y = self.number(c[0], env), str(c[1]), self.number(c[2], env)
+            if op in "/%" and y == 0:
                 raise self.error(t, "division by zero")
-            return {"+": a + b, "-": a - b, "*": a * b, "/": _div(a, b), "%": a % b}[op]
+            return {"+": x + y, "-": x - y, "*": x * y, "/": _div(x, y), "%": x % y}[op]
         if k == "negate":
             return -self.number(c[0], env)
         if k == "if_":
@@ -343,7 +344,7 @@ class Evaluator:
             kind, value = found
             if kind == "value":
                 return value
-            d, denv = value  # type: ignore[misc]
+            d, denv = cast("tuple[Definition, Env]", value)
             return self._use(d, Env({}, {}, denv.timed or d.timed, denv), ())
         if name == "STOP":
             return Stop(env.timed)
@@ -383,7 +384,7 @@ class Evaluator:
         args = tuple(self.eval(a, env) for a in args_t)
         found = env.lookup(name)
         if found is not None and found[0] == "def":
-            d, denv = found[1]  # type: ignore[misc]
+            d, denv = cast("tuple[Definition, Env]", found[1])
             return self._use(d, denv, args)
         top = self.lookup_top(name) if found is None else None
         if top is not None:
@@ -598,7 +599,8 @@ class Semantics:
                 out += [Binary(p.op, left, q, p.events, p.timed) for q in self.taus(right)]  # type: ignore[arg-type]
             return out
         if p.op == "timeout":
-            return [Binary("timeout", q, right, None, p.timed) for q in self.taus(left)] + [right]  # type: ignore[list-item]
+            out = [Binary("timeout", q, right, None, p.timed) for q in self.taus(left)]
+            return [*out, right] if right is not None else out
         if p.op == "parallel":
             assert right is not None
             out += [Binary("parallel", q, right, p.events, p.timed) for q in self.taus(left)]
@@ -657,7 +659,7 @@ class Semantics:
         if op == "internal":
             return []
         if op == "seq":
-            return [Binary("seq", q, right, None, p.timed) for q in self.after(left, e)]
+            return list[Proc]([Binary("seq", q, right, None, p.timed) for q in self.after(left, e)])
         if op == "hide":
             assert p.events is not None
             if p.events.contains(e):
@@ -680,8 +682,8 @@ class Semantics:
         assert p.events is not None
         if p.events.contains(e) or (tock and p.timed):
             return [Binary(op, a, b, p.events, p.timed) for a in self.after(left, e) for b in self.after(right, e)]
-        return ([Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
-                + [Binary(op, left, q, p.events, p.timed) for q in self.after(right, e)])
+        moves: list[Proc] = [Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
+        return moves + [Binary(op, left, q, p.events, p.timed) for q in self.after(right, e)]
 
     def mentions(self, p: Proc) -> set[Event]:
         """Events (with values) that p's current terms name, so the monitor can tell them apart."""
