@@ -30,6 +30,10 @@ def _pin(**values: int) -> Ranges:
 CASES = {
     # A machine on its own: the paper's A5 with a move request of time -1.
     "exax_a5": (EXAMPLE, "A5", _pin(core_int=-1, core_real=0)),
+    # A CSP specification as a monitor: the paper's A1, a tock before EXAX::go_to_posCall.
+    "exax_a1": (EXAMPLE, "A1", _pin(core_int=-1, core_real=0)),
+    # A model process in a CSP context: A2, EXAX::D__(0, 1) with its calls hidden.
+    "exax2_a2": (EXAMPLE, "A2", _pin(core_int=-1, core_real=0)),
     # A controller: its event e, connected to STM1, is visible as C1::e.
     "controller_c1_term": (CONFORMANCE / "robochart" / "test-core-assertions", "C1_term", _pin(core_nat=2)),
     # A module: the platform's e goes through an (_async) buffer, read internally.

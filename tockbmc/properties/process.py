@@ -263,6 +263,17 @@ class MonitorExtension:
             out = z3.If(z3.And([_equals(v, x) for v, x in zip(values, vs, strict=True)]), nxt, out)
         return out
 
+    def allowed(self, state: int, most: int = 6) -> list[str]:
+        """The channels (and `tock`) the specification can do in a monitor state, for the report."""
+        if state < 0:
+            return []
+        names = [".".join(str(x) for x in ch.prefix) for c, ch in enumerate(self.channels)
+                 if any(nxt != Monitor.DEAD for _vs, nxt in self.table[(state, c)])]
+        others = [".".join(str(x) for x in ch.prefix) for ch in self.channels if ch.prefix != TOCK]
+        if "tock" not in names and len(names) == len(others) and len(names) > 1:
+            return ["any event but tock"]
+        return names[:most] + (["…"] if len(names) > most else [])
+
     def violated(self, system: System, k: int) -> z3.BoolRef:
         mon = system.frame(k)["monitor"]
         ends = [mon == s for s in sorted(self.bad_end)]

@@ -228,7 +228,13 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
         assert ext is not None
         state = model.eval(system.frame(k)["monitor"], model_completion=True).as_long()
         if state == -1:
-            return f"{a.other} cannot do the last event of this trace"
+            before = model.eval(system.frame(k - 1)["monitor"], model_completion=True).as_long() if k else -1
+            m = system.moves[model.eval(system.action(k - 1), model_completion=True).as_long()] if k else None
+            last = "tock" if m is not None and m.kind == "tock" else "the last event"
+            allowed = ext.allowed(before)  # type: ignore[attr-defined]
+            offer = (f"; there it can do {allowed[0]}" if allowed == ["any event but tock"]
+                     else f"; there it can do only {', '.join(allowed)}" if allowed else "; there it can do nothing")
+            return f"{a.other} cannot do {last} after the events before it{offer}"
         rest = " ".join(ext.bad_end.get(state, []))  # type: ignore[attr-defined]
         return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
 
