@@ -5,8 +5,11 @@ from __future__ import annotations
 from fractions import Fraction
 from pathlib import Path
 
+import pytest
 from test_semantics_rules import expect, run
 
+from tockbmc import load
+from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
 
 ONE = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
@@ -77,3 +80,40 @@ stm M {
 }
 """, "assertion NU: u is not reachable in M.\n", bound=6)
     expect(rs["NU"], "violated")
+
+
+# ---------------------------------------------------------------------------- CSP review (session 3)
+# Models a reviewer wrote to break the CSP support (tests/csp_review/h*/). Expected verdicts follow
+# semantics.md §3–§4; "unsupported" marks what tockbmc declines rather than answers wrongly.
+
+CSP_REVIEW = Path(__file__).parent / "csp_review"
+CSP_EXPECTED = {
+    # A prefix before the model, hidden: its event is internal, so <M::a.in> is P's and not S's.
+    "h1": {"A1": "violated", "A2": "unsupported", "A3": "holds"},
+    # ✓ of a specification before the end of a trace; `[] x : {0..70}` listing; RUN of a channel.
+    "h2": {"A1": "violated", "B1": "violated", "B2": "violated", "B3": "violated"},
+    # Channels with two values, enumeration literals (`Colour::RED`, RoboTool's `Colour_RED`).
+    "h3": {"B4": "unsupported", "C1": "holds", "C2": "holds", "C3": "holds", "C4": "unsupported"},
+    # A record value in a specification is declined, not a crash; other assertions still run.
+    "h4": {"A": "unsupported", "B": "holds"},
+    # `[]` and `/\` terminate when either side does.
+    "h5": {"A": "holds", "B": "holds", "C": "holds"},
+    # `Timed` is taken from where a process is defined, not from where it is used.
+    "h6": {"A": "violated", "B": "violated", "C": "holds"},
+    # `{| c |}` of a typed channel after the model terminates.
+    "h7": {"A": "holds", "B": "unsupported"},
+    # Specifications offering events they do not name (`Events`, `diff`) cannot be listed.
+    "h8": {"A": "unsupported", "B": "unsupported", "C": "unsupported"},
+    # Prefixes before a model: timelock and blocking are declined.
+    "h9": {"A": "unsupported", "C": "unsupported", "D": "unsupported"},
+    # Hiding one value of a channel in a specification.
+    "h10": {"A": "holds", "B": "holds"},
+    # ✓ on the right of `[]` inside `;`; definitions inside one-line Timed sections.
+    "h11": {"A": "violated", "B": "holds", "C": "holds"},
+}
+
+
+@pytest.mark.parametrize("case", sorted(CSP_EXPECTED))
+def test_csp_review_case(case: str) -> None:
+    results = {r.assertion: r.verdict for r in check(load(CSP_REVIEW / case), bound=12)}
+    assert results == CSP_EXPECTED[case]

@@ -20,8 +20,8 @@ import z3
 from tockbmc.bmc.engine import bmc
 from tockbmc.bmc.result import TraceStep
 from tockbmc.encodings.system import System
-from tockbmc.properties.process import Context, _event_text
-from tockbmc.properties.spec import ANY, OTHER, TOCK, Input, Monitor, Proc, Semantics, TooLarge
+from tockbmc.properties.process import Context, _event_text, alphabet_of, channels_of
+from tockbmc.properties.spec import OTHER, Channel, Monitor, Proc, Semantics, TooLarge
 
 
 class Unenumerable(Exception):
@@ -34,26 +34,28 @@ class SpecTrace:
     ticks: bool  # the specification can terminate (✓) after it
 
 
-def spec_traces(sem: Semantics, root: Proc, length: int, cap: int) -> tuple[list[SpecTrace], int]:
-    """Maximal traces of the specification with at most `length` events (✓ noted, not counted).
+def spec_traces(sem: Semantics, root: Proc, channels: list[Channel], length: int,
+                cap: int) -> tuple[list[SpecTrace], int]:
+    """The traces of the specification to check: the maximal ones with at most `length` events,
+    and every one after which it can terminate (with ✓).
 
     If there are more than `cap`, the length is reduced until there are not; returns the
     traces and the length they cover.
     """
     try:
-        mon = Monitor(sem, root, [])
+        mon = Monitor(sem, root, channels)
     except TooLarge:
         raise Unenumerable("the specification has too many states") from None
     while length >= 0:
         out: list[SpecTrace] = []
         todo: list[tuple[int, tuple[tuple, ...]]] = [(mon.initial, ())]
-        while todo:
+        while todo and len(out) <= cap:
             state, trace = todo.pop()
             nexts = [] if len(trace) == length else _moves(mon, sem, state)
-            if not nexts:
-                out.append(SpecTrace(trace, mon.can_tick(state)))
-                if len(out) > cap:
-                    break
+            if mon.can_tick(state):
+                out.append(SpecTrace(trace, True))
+            elif not nexts:
+                out.append(SpecTrace(trace, False))
             todo += [(s, (*trace, e)) for e, s in nexts]
         if len(out) <= cap:
             return sorted(out, key=lambda t: (len(t.events), repr(t.events))), length
@@ -61,19 +63,24 @@ def spec_traces(sem: Semantics, root: Proc, length: int, cap: int) -> tuple[list
     return [], 0
 
 
+_FOREIGN = ("a channel outside the model's alphabet",)
+
+
 def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
+    """The specification's next events from a monitor state, each with the state after it."""
     events: set[tuple] = set()
     for p in mon.states[state]:
-        for e in sem.mentions(p):
-            if any(x is ANY or isinstance(x, Input) for x in e):
-                if sem.after(p, tuple(OTHER if x is ANY or isinstance(x, Input) else x for x in e)):
-                    raise Unenumerable(f"it offers any value on {_event_text(e[:1])}, so its traces cannot "
-                                       "be listed")
-                continue
+        if sem.after(p, _FOREIGN):
+            raise Unenumerable("it offers events the model does not have (such as every event of `Events`)")
+        for e in sem.candidates(p):
+            if OTHER in e[1:] and sem.after(p, e):
+                raise Unenumerable(f"it offers any value on {_event_text(e[:2])}, so its traces cannot be "
+                                   "listed")
             events.add(e)
-    events.add(TOCK)
     out = []
     for e in sorted(events, key=repr):
+        if OTHER in e[1:]:
+            continue
         s = mon.after(state, e)
         if s != Monitor.DEAD:
             out.append((e, s))
@@ -104,7 +111,10 @@ class TraceFollower:
                 continue
             label, _arity = system.label(m)
             values = [v for v, _t in system.label_values(m, i)]
-            matches = [z3.And(pos == j, _matches(label, values, e)) for j, e in enumerate(self.trace.events)]
+            try:
+                matches = [z3.And(pos == j, _matches(label, values, e)) for j, e in enumerate(self.trace.events)]
+            except ValueError as exc:
+                raise Unenumerable(str(exc)) from None
             cs.append(z3.Implies(act == m.index, z3.Or(matches) if matches else z3.BoolVal(False)))
             new = z3.If(act == m.index, pos + 1, new)  # type: ignore[assignment]
         cs.append(system.frame(i + 1)["follow"] == new)
@@ -155,14 +165,24 @@ class Inclusion:
     trace: tuple[TraceStep, ...] = ()
 
 
+INCLUSION_LENGTH = 8  # most events in a specification trace listed by default (and at most half the bound)
+
+
 def included(make: Callable[[Callable[[System], TraceFollower] | None, str], System], sem: Semantics,
              spec: Proc, spec_name: str, element: str, bound: int, timeout: Callable[[], float | None],
-             cap: int = 64) -> Inclusion:
+             cap: int = 256) -> Inclusion:
     """Whether every trace of `spec` (up to a length) is one of the element's.
 
     `make(follower, tag)` builds the element's system with a follower attached.
     """
-    traces, length = spec_traces(sem, spec, max(1, bound // 2), cap)
+    probe = make(lambda s: TraceFollower(s, SpecTrace((), False)), "")
+    channels, _ = channels_of(probe)
+    sem.alphabet = alphabet_of(probe)
+    wanted = max(1, min(INCLUSION_LENGTH, bound // 2))
+    traces, length = spec_traces(sem, spec, channels, wanted, cap)
+    if length < wanted:
+        return Inclusion("unknown", f"{spec_name} has more than {cap} traces of {wanted} events; only those of up "
+                                    f"to {length} events could be listed, which gives no verdict")
     for t in traces:
         system = make(lambda s, t=t: TraceFollower(s, t), "")  # type: ignore[misc]
         prover = lambda t=t: make(lambda s: TraceFollower(s, t), "k.")  # noqa: E731
@@ -183,4 +203,4 @@ def included(make: Callable[[Callable[[System], TraceFollower] | None, str], Sys
         return Inclusion("unknown", f"{spec_name} has this trace and {element} was not shown to perform it "
                                     f"({why})", steps)
     return Inclusion("holds", f"every trace of {spec_name} with up to {length} events is a trace of {element} "
-                              f"({len(traces)} maximal traces, each performed within {bound} steps)")
+                              f"({len(traces)} traces listed, each performed within {bound} steps)")

@@ -19,20 +19,20 @@ import z3
 from lark import Tree
 
 from tockbmc.bmc.result import TraceStep
-from tockbmc.encodings.system import System
+from tockbmc.encodings.composition import External
+from tockbmc.encodings.system import System, canonical
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, pos_of
 from tockbmc.properties.spec import (
-    ANY,
     EVENTS,
     OTHER,
     TOCK,
     Binary,
     Channel,
+    EnumValue,
     Env,
     Evaluator,
     EventSet,
-    Input,
     ModelProcess,
     Monitor,
     Proc,
@@ -81,10 +81,13 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
         if name == "timed_priority" and len(c) == 2:
             return implementation(ev, c[1], env, seen)
         found = env.lookup(name)
-        used: Definition | None = (cast("tuple[Definition, Env]", found[1])[0]
-                                   if found is not None and found[0] == "def" else ev.lookup_top(name))
-        if used is not None:
-            return _definition(ev, used, env, tuple(ev.eval(a, env) for a in c[1:]), seen)
+        args = tuple(ev.eval(a, env) for a in c[1:])
+        if found is not None and found[0] == "def":
+            local, denv = cast("tuple[Definition, Env]", found[1])
+            return _definition(ev, local, Env({}, {}, denv.timed or local.timed, denv), args, seen)
+        top = ev.lookup_top(name) if found is None else None
+        if top is not None:  # evaluated where it is defined, not where it is used
+            return _definition(ev, top, Env({}, {}, top.timed), args, seen)
         return ev.proc(t, env)
     if k == "let":
         defs = {d.name: d for d in (ev._local(x) for x in c[:-1])}
@@ -101,12 +104,15 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
             hidden = events if k == "hide" else EventSet("diff", (EVENTS, events))
             inner.ops.insert(0, ("hide", hidden))
             inner.tail = Binary("hide", inner.tail, None, hidden, env.timed)
+            inner.head = tuple(e for e in inner.head if not hidden.contains(e))  # now internal
         elif k == "parallel":
             p = ev.eval(c[2], env)
             if not isinstance(p, (Skip, Stop)):
                 raise ev.error(t, "a model process can only be put in parallel with SKIP or STOP "
                                   "(to block events)")
             events = ev.events(c[1], env)
+            if any(events.contains(e) for e in inner.head):
+                raise ev.error(t, "blocking an event of a prefix before a model process is not supported")
             inner.ops.insert(0, ("block", events))
             tail = inner.tail if isinstance(p, Skip) else Binary("seq", inner.tail, p, None, env.timed)
             inner.continues |= isinstance(p, Stop)
@@ -179,19 +185,21 @@ class Context:
         sem = self.sem
         todo: list[tuple[Proc, list[str]]] = [(self.impl.tail, [])]
         seen: set[Proc] = set()
-        while todo and len(seen) < 5000:
+        while todo:
             p, trace = todo.pop(0)
             p = sem.force(p)
             if p in seen:
                 continue
             seen.add(p)
+            if len(seen) > 5000:
+                raise CspError(self.impl.pos, "what follows the model's termination has too many states")
             if sem.ticks(p):
                 return [*trace, "✓"]
             taus = sem.taus(p)
             if not taus and not sem.after(p, TOCK):
                 return trace
             todo += [(q, trace) for q in taus]
-            for e in sorted(_concrete_mentions(sem, p), key=repr):
+            for e in sorted(sem.candidates(p) - {TOCK}, key=repr):
                 todo += [(q, [*trace, _event_text(e)]) for q in sem.after(p, e)]
             if not taus:
                 todo += [(q, [*trace, "tock"]) for q in sem.after(p, TOCK)]
@@ -203,24 +211,51 @@ class Context:
         return MonitorExtension(system, self)
 
 
+def channels_of(system: System) -> tuple[list[Channel], dict[int, int]]:
+    """The channels of the visible moves (`tock` last, unless hidden), and each move's channel."""
+    channels: list[Channel] = []
+    channel_of: dict[int, int] = {}
+    for m in system.moves:
+        if m.kind != "event" or m.blocked:
+            continue
+        label, arity = system.label(m)
+        ch = Channel(label, arity)
+        if ch not in channels:
+            channels.append(ch)
+        channel_of[m.index] = channels.index(ch)
+    if not system.tock_hidden:
+        channels.append(Channel(TOCK, 0))
+        channel_of[system.TOCK] = len(channels) - 1
+    return channels, channel_of
+
+
+def alphabet_of(system: System) -> list[tuple[tuple, int]]:
+    """Every channel the element declares, as (fixed fields, number of values): its machines'
+    events in both directions, its operation calls and `terminate`, whether used or not."""
+    out: list[tuple[tuple, int]] = [((canonical(f"{system.name}::terminate"),), 0)]
+    for c, comp in enumerate(system.components):
+        for e in comp.machine.events:
+            found = system.network.route(c, e.name)
+            ends = (found[0].receiver, found[0].sender) if found is not None else ()
+            if ends and not any(isinstance(end, External) for end in ends):
+                continue  # machine to machine: internal
+            name = canonical(system.network.visible_name(c, e.name))
+            out += [((name, d), int(e.type is not None)) for d in ("in", "out")]
+        for op in comp.machine.operations:
+            out.append(((canonical(f"{system.name}::{op.name}Call"),), len(op.parameters)))
+    channels, _ = channels_of(system)
+    out += [(ch.prefix, ch.arity) for ch in channels if ch.prefix != TOCK]
+    return list(dict.fromkeys(out))
+
+
 class MonitorExtension:
     """The specification's monitor state `monitor`, updated by every visible step."""
 
     def __init__(self, system: System, context: Context):
         self.context = context
         sem = context.sem
-        visible = [m for m in system.moves if m.kind == "event" and not m.blocked]
-        self.channels: list[Channel] = []
-        self.channel_of: dict[int, int] = {}
-        for m in visible:
-            label, arity = system.label(m)
-            ch = Channel(label, arity)
-            if ch not in self.channels:
-                self.channels.append(ch)
-            self.channel_of[m.index] = self.channels.index(ch)
-        if not system.tock_hidden:
-            self.channels.append(Channel(TOCK, 0))
-            self.channel_of[system.TOCK] = len(self.channels) - 1
+        self.channels, self.channel_of = channels_of(system)
+        sem.alphabet = alphabet_of(system)
         assert context.spec is not None
         try:
             self.monitor = Monitor(sem, context.spec, self.channels)
@@ -257,10 +292,17 @@ class MonitorExtension:
         return system.frame(i + 1)["monitor"] == new
 
     def _delta(self, s: int, c: int, values: list) -> z3.ArithRef:
+        """The next monitor state after channel c's event with `values`; the atoms' conditions are
+        exclusive (per field: a named value, or none of them), so their order does not matter."""
         entries = self.table[(s, c)]
-        out: z3.ArithRef = z3.IntVal(entries[-1][1])  # every value the state does not mention
-        for vs, nxt in reversed(entries[:-1]):
-            out = z3.If(z3.And([_equals(v, x) for v, x in zip(values, vs, strict=True)]), nxt, out)
+        named = self.monitor.named[(s, c)]
+        out: z3.ArithRef = z3.IntVal(entries[-1][1])
+        try:
+            for vs, nxt in reversed(entries[:-1]):
+                out = z3.If(z3.And([field_is(v, x, named[j]) for j, (v, x) in enumerate(zip(values, vs, strict=True))]),
+                            nxt, out)
+        except ValueError as exc:
+            raise CspError(self.context.impl.pos, str(exc)) from None
         return out
 
     def allowed(self, state: int, most: int = 6) -> list[str]:
@@ -304,15 +346,16 @@ class MonitorExtension:
             while todo:
                 p, q, trace = todo.pop(0)
                 p = sem.force(p)
-                if (p, q) in seen or len(seen) > 2000:
+                if (p, q) in seen:
                     continue
                 seen.add((p, q))
+                if len(seen) > 5000:
+                    raise TooLarge
                 if sem.ticks(p) and not mon.can_tick(q):
                     out[s] = [*trace, "✓"]
                     break
                 todo += [(r, q, trace) for r in sem.taus(p)]
-                events = _concrete_mentions(sem, p)
-                events |= {(*ch.prefix, *(OTHER,) * ch.arity) for ch in self.channels}
+                events = sem.candidates(p, (e for t in mon.states[q] for e in sem.mentions(t)))
                 if sem.stable(p):
                     events.add(TOCK)
                 else:
@@ -331,23 +374,25 @@ class MonitorExtension:
         return out
 
 
-def _concrete_mentions(sem: Semantics, p: Proc) -> set[tuple]:
-    """The events p names, with `OTHER` for fields it leaves open."""
-    return {tuple(OTHER if x is ANY or isinstance(x, Input) else x for x in e) for e in sem.mentions(p)}
-
-
 def _event_text(e: tuple) -> str:
     return ".".join("…" if x is OTHER else str(x).lower() if isinstance(x, bool) else str(x) for x in e)
 
 
-def _equals(term: object, value: object) -> z3.BoolRef:
+def field_is(term: object, value: object, named: list[object]) -> z3.BoolRef:
+    """A model value (a Z3 term) is the specification's value, or, for `OTHER`, none it names."""
     if value is OTHER:
-        return z3.BoolVal(False)
+        return z3.And([z3.Not(_equals(term, x)) for x in named])
+    return _equals(term, value)
+
+
+def _equals(term: object, value: object) -> z3.BoolRef:
     if isinstance(term, dict):
-        raise ValueError("a specification that names record values is not supported")
+        raise ValueError("a specification that names values of a record-typed event is not supported")
     assert isinstance(term, z3.ExprRef)
     if isinstance(value, bool):
         return term == z3.BoolVal(value) if z3.is_bool(term) else z3.BoolVal(False)
+    if isinstance(value, EnumValue):
+        return term == value.index if z3.is_int(term) else z3.BoolVal(False)  # type: ignore[return-value]
     if isinstance(value, int) and z3.is_arith(term):
         return term == value  # type: ignore[return-value]
     return z3.BoolVal(False)

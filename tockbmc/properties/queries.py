@@ -18,7 +18,7 @@ from tockbmc.encodings.system import System
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.properties.process import Context, Implementation, implementation
-from tockbmc.properties.spec import Env, Evaluator, Proc, Semantics
+from tockbmc.properties.spec import EnumValue, Env, Evaluator, Proc, Semantics
 
 
 class NotSupported(Exception):
@@ -107,7 +107,7 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         raise NotSupported("untimed assertions need RoboTool's untimed semantics, which is not built yet")
     if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
         raise NotSupported(f"the {a.semantic_model} model is not supported")
-    ev = Evaluator(_top_level(project), _any_block(project))
+    ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
     sem = Semantics(ev)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
@@ -118,6 +118,9 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         raise NotSupported(f"'{subject}' is a CSP process with no model element in it; checking a "
                            "specification on its own is not supported")
     element, name, settings = _resolve(project, impl)
+    if impl.head:
+        raise NotSupported(f"'{subject}' starts with a prefix before the model process; only refinement checks "
+                           "(with the model on the left) support that")
     context = Context(impl, sem) if subject_is_process else None
     if context is not None and impl.continues:
         if a.kind != "timelock-free":
@@ -191,6 +194,9 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     if impl is left:
         goals = (_refinement_goal(a, name),)
     inclusion = a.kind == "equals" or impl is right
+    if inclusion and impl.head:
+        raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
+                           "comes before the model")
     if inclusion and impl.continues:
         raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a process "
                            "follows the model's termination")
@@ -260,6 +266,18 @@ def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
         return None
 
     return lookup
+
+
+def _literals(project: ast.Project) -> dict[str, EnumValue]:
+    """Enumeration literals as a specification may write them: `E::L`, `pkg::E::L` or RoboTool's `E_L`."""
+    out: dict[str, EnumValue] = {}
+    for t in project.types:
+        if isinstance(t, ast.EnumType):
+            for i, lit in enumerate(t.literals):
+                value = EnumValue(t.name, i, f"{t.name}::{lit}")
+                for key in (f"{t.name}::{lit}", f"{t.qname}::{lit}", f"{t.name}_{lit}"):
+                    out[key] = value
+    return out
 
 
 def _any_block(project: ast.Project) -> ast.CspBlock:

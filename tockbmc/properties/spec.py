@@ -41,6 +41,18 @@ Event = tuple  # ("EXAX::move", "in", value, …): a channel's canonical name, t
 
 
 @dataclass(frozen=True)
+class EnumValue:
+    """A literal of a model enumeration, `Colour::RED` (or RoboTool's `Colour_RED`)."""
+
+    type_name: str
+    index: int
+    text: str
+
+    def __str__(self) -> str:
+        return self.text
+
+
+@dataclass(frozen=True)
 class Input:
     """`?x` in a prefix: binds x to the field's value."""
 
@@ -240,9 +252,11 @@ class ModelProcess:
 class Evaluator:
     """Evaluates CSP expressions; `lookup_top` finds top-level definitions by name."""
 
-    def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock):
+    def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
+                 literals: dict[str, EnumValue] | None = None):
         self.lookup_top = lookup_top
         self.block = block
+        self.literals = literals or {}
 
     def error(self, node: Tree | Token, what: str) -> CspError:
         return CspError(pos_of(self.block, node), what)
@@ -361,6 +375,9 @@ class Evaluator:
         top = self.lookup_top(name)
         if top is not None:
             return self._use(top, Env({}, {}, top.timed), ())
+        literal = self.literals.get(name) or self.literals.get("::".join(name.split("::")[-2:]))
+        if literal is not None:
+            return literal
         if "::" in name:
             return (canonical(name),)
         raise self.error(tok, f"unknown name '{name}'")
@@ -536,6 +553,9 @@ class Semantics:
     """Steps of specification terms; `force` evaluates thunks (and bounds unguarded recursion)."""
 
     evaluator: Evaluator
+    # The implementation's channels as (fixed fields, number of values), so that terms that accept
+    # events they do not name (`RUN(Events)`, a hidden `Events`) can be probed.
+    alphabet: list[tuple[Event, int]] = field(default_factory=list)
     _forced: dict[Proc, Proc] = field(default_factory=dict)
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
@@ -564,7 +584,9 @@ class Semantics:
         if isinstance(p, EndBy):
             return self.ticks(p.p)
         if isinstance(p, Binary):
-            if p.op in ("external", "interrupt", "exception", "timeout", "hide"):
+            if p.op in ("external", "interrupt"):
+                return self.ticks(p.left) or (p.right is not None and self.ticks(p.right))
+            if p.op in ("exception", "timeout", "hide"):
                 return self.ticks(p.left)
             if p.op == "parallel":
                 return isinstance(self.force(p.left), Omega) and isinstance(self.force(p.right), Omega)  # type: ignore[arg-type]
@@ -613,12 +635,33 @@ class Semantics:
         return out
 
     def _visible_moves(self, p: Proc, hidden: EventSet) -> list[tuple[Event, Proc]]:
-        """Moves of p on the events of `hidden` that p's terms mention (for hiding)."""
+        """Moves of p on the events of `hidden` (which become internal): the events p's terms and
+        the hidden set name, and one event of every channel of the alphabet with unnamed values."""
         out = []
-        for e in sorted(self.mentions(p) | {TOCK}, key=repr):
-            concrete = tuple(OTHER if x is ANY else x for x in e)
-            if hidden.contains(concrete) and not any(isinstance(x, Input) for x in concrete):
-                out += [(concrete, q) for q in self.after(p, concrete)]
+        for e in sorted(self.candidates(p, hidden.mentions()), key=repr):
+            if hidden.contains(e):
+                out += [(e, q) for q in self.after(p, e)]
+        return out
+
+    def candidates(self, p: Proc, extra: Iterable[Event] = ()) -> set[Event]:
+        """Concrete events that stand for all of p's possible moves: per alphabet channel, the
+        values p's terms (and `extra`) name in each field, `OTHER` elsewhere; events on channels
+        outside the alphabet as named; and `tock`."""
+        out: set[Event] = {TOCK}
+        for e in set(self.mentions(p)) | set(extra):
+            matched = False
+            for prefix, arity in self.alphabet:
+                if _extends(e, prefix):
+                    vals = [OTHER if x is ANY or isinstance(x, Input) else x
+                            for x in e[len(prefix): len(prefix) + arity]]
+                    out.add((*prefix, *vals, *(OTHER,) * (arity - len(vals))))
+                    matched = True
+                elif _extends(prefix, e):
+                    matched = True  # `{| c |}` of a channel: the probe below stands for it
+            if not matched and not any(x is ANY or isinstance(x, Input) for x in e):
+                out.add(e)
+        for prefix, arity in self.alphabet:
+            out.add((*prefix, *(OTHER,) * arity))
         return out
 
     def stable(self, p: Proc) -> bool:
@@ -680,7 +723,11 @@ class Semantics:
             return [Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
         # parallel
         assert p.events is not None
-        if p.events.contains(e) or (tock and p.timed):
+        if tock and p.timed:  # a side that has terminated does not stop time
+            lefts = [left] if isinstance(self.force(left), Omega) else self.after(left, e)
+            rights = [right] if isinstance(self.force(right), Omega) else self.after(right, e)
+            return [Binary(op, a, b, p.events, p.timed) for a in lefts for b in rights]
+        if p.events.contains(e):
             return [Binary(op, a, b, p.events, p.timed) for a in self.after(left, e) for b in self.after(right, e)]
         moves: list[Proc] = [Binary(op, q, right, p.events, p.timed) for q in self.after(left, e)]
         return moves + [Binary(op, left, q, p.events, p.timed) for q in self.after(right, e)]
@@ -749,9 +796,12 @@ class Monitor:
     def __init__(self, sem: Semantics, root: Proc, channels: Iterable[Channel], limit: int = 5000):
         self.sem = sem
         self.channels = list(channels)
+        if self.channels and not sem.alphabet:
+            sem.alphabet = [(ch.prefix, ch.arity) for ch in self.channels if ch.prefix != TOCK]
         self.limit = limit
         self.states: list[frozenset[Proc]] = []
         self.index: dict[frozenset[Proc], int] = {}
+        self.named: dict[tuple[int, int], list[list[object]]] = {}  # (state, channel) -> values named per field
         self.initial = self._state(self._closure([root]))
 
     def _closure(self, procs: Iterable[Proc]) -> frozenset[Proc]:
@@ -780,15 +830,27 @@ class Monitor:
     def can_tick(self, state: int) -> bool:
         return state != self.DEAD and any(self.sem.ticks(p) for p in self.states[state])
 
-    def values(self, state: int, ch: Channel) -> list[tuple]:
-        """The value tuples of `ch` that the terms of `state` tell apart, `OTHER` last."""
-        out = []
+    def fields(self, state: int, ch: Channel) -> list[list[object]]:
+        """Per value field of `ch`, the values the terms of `state` name there."""
+        out: list[set[object]] = [set() for _ in range(ch.arity)]
         if state != self.DEAD:
             n = len(ch.prefix)
             for e in set().union(*(self.sem.mentions(p) for p in self.states[state])):
-                if len(e) == n + ch.arity and _extends(ch.prefix, e[:n]) and all(x is not ANY for x in e[n:]):
-                    out.append(tuple(e[n:]))
-        return sorted(set(out), key=repr) + [tuple(OTHER for _ in range(ch.arity))]
+                if len(e) > n and _extends(ch.prefix, e[:n]):
+                    for j, x in enumerate(e[n: n + ch.arity]):
+                        if x is not ANY and not isinstance(x, Input):
+                            out[j].add(x)
+        return [sorted(f, key=repr) for f in out]
+
+    def values(self, state: int, ch: Channel) -> list[tuple]:
+        """The value tuples of `ch` that the terms of `state` tell apart: per field a named value
+        or `OTHER` (every value not named there)."""
+        combos: list[tuple] = [()]
+        for named in self.fields(state, ch):
+            combos = [(*c, v) for c in combos for v in (*named, OTHER)]
+            if len(combos) > 256:
+                raise TooLarge
+        return combos
 
     def after(self, state: int, e: Event) -> int:
         if state == self.DEAD:
@@ -804,6 +866,7 @@ class Monitor:
         i = 0
         while i < len(self.states):
             for c, ch in enumerate(self.channels):
+                self.named[(i, c)] = self.fields(i, ch)
                 out[(i, c)] = [(vs, self.after(i, (*ch.prefix, *vs))) for vs in self.values(i, ch)]
             i += 1
         return out
