@@ -346,6 +346,48 @@ stm M {
 # ---------------------------------------------------------------------------- rule 8
 
 
+def test_rule7_during_of_composite_starts_once_child_is_stable(tmp_path) -> None:
+    """§2.7: entering composite S runs its initial transition into c (whose entry outputs f), and
+    only then is S stable and its during (output e) starts. So f comes before e: Order holds,
+    and EFirst (e before anything else) is violated by the trace <M::f.out>. A transition out of
+    S abandons the during: with g taken at once, e need not happen (Leave)."""
+    rct = """
+stm M {
+  event e
+  event f
+  event g
+  state S {
+    initial i
+    state c { entry f }
+    transition t0 { from i to c }
+    during e
+  }
+  state out {}
+  initial i0
+  transition t { from i0 to S }
+  transition leave { from S to out trigger g }
+}
+"""
+    text = """
+timed csp Order csp-begin
+Timed(OneStep) { Order = M::f.out -> (M::e.out -> M::g.in -> STOP [] M::g.in -> STOP) }
+csp-end
+timed csp EFirst csp-begin
+Timed(OneStep) { EFirst = M::e.out -> STOP }
+csp-end
+timed csp Leave csp-begin
+Timed(OneStep) { Leave = M::f.out -> M::g.in -> STOP }
+csp-end
+assertion A: M refines Order in the traces model.
+assertion B: M refines EFirst in the traces model.
+assertion C: Leave refines M in the traces model.
+"""
+    rs = run(tmp_path, rct, text)
+    expect(rs["A"], "holds")
+    expect(rs["B"], "violated", ["M::f.out"])
+    expect(rs["C"], "holds")
+
+
 def test_rule8_top_level_final_offers_terminate(tmp_path) -> None:
     """§2.8, §3: terminate is not urgent (tock allowed before it), then the machine refuses tock;
     termination is not a deadlock."""

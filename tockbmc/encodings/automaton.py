@@ -151,6 +151,7 @@ class _Builder:
         self.during_start: dict[str, int] = {}
         self.since_entry = self._since_entry_states()
         self._in_deadline = False
+        self.parent_during: dict[str, ast.Node] = {}  # child state -> composite whose during starts there
         self._check_supported()
 
     # ------------------------------------------------------------ support checks
@@ -158,7 +159,7 @@ class _Builder:
     def _check_supported(self) -> None:
         for n in self.m.nodes:
             if n.during is not None and n.composite:
-                raise Unsupported(n.during.pos, "during actions of composite states are not encoded yet")
+                self._composite_during_supported(n)
             if n.kind == "probabilistic":
                 raise Unsupported(n.pos, "probabilistic junctions")
             for s in (n.entry, n.during, n.exit):
@@ -171,6 +172,30 @@ class _Builder:
                 raise Unsupported(t.deadline.pos, "a deadline on a transition whose condition reads its "
                                                   "input is not encoded yet")
             self._check_stmt(t.action)
+
+    def _composite_during_supported(self, n: ast.Node) -> None:
+        """A composite's during runs once a child is stable (§2.7) and is abandoned by any transition.
+
+        Encoded when that order is all there is: the children are leaf states without their own
+        during, and no transition moves between them (only the initial one enters them), so the
+        composite is entered whenever a child is.  Anything else is `unsupported`.
+        """
+        assert n.during is not None
+        inside = {x.path for x in self.m.nodes if x.path.startswith(n.path + "::")}
+        children = [x for x in self.m.nodes if x.parent == n.path]
+        for x in children:
+            if x.kind == "initial":
+                continue
+            if x.kind != "state" or x.composite or x.during is not None:
+                raise Unsupported(n.during.pos, "a during action of a composite state whose children are not all "
+                                                "leaf states without a during action is not encoded yet")
+        for t in self.m.transitions:
+            if t.source in inside and t.target in inside and self.m.node(t.source).kind != "initial":
+                raise Unsupported(n.during.pos, "a during action of a composite state whose children move among "
+                                                "themselves is not encoded yet")
+        for x in children:
+            if x.kind == "state":
+                self.parent_during[x.path] = n
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
         for st in ast.statements(s):
@@ -210,7 +235,7 @@ class _Builder:
             for loc in self.final_top.values():
                 self.a.edge(loc, self.terminated, "terminate")
         for n in self.m.nodes:
-            if n.during is not None and n.path in self.stable:
+            if n.during is not None and n.path in self.stable and not n.composite:
                 self._during(n, self.chain(n.path))
         # The machine starts by taking its top-level initial transition.
         init = self._initial(None)
@@ -328,6 +353,8 @@ class _Builder:
                 if init.action is not None:
                     cur = self._stmt(cur, init.action, inside, f"{init.name}: action")
                 self._follow(cur, init, inside)
+            elif target.path in self.parent_during:
+                self._goto(cur, self._during(target, (*active, target.path), self.parent_during[target.path]))
             elif target.during is not None:
                 self._goto(cur, self._during(target, (*active, target.path)))
             else:
@@ -335,14 +362,16 @@ class _Builder:
         else:
             raise Unsupported(target.pos, f"entering a {target.kind}")
 
-    def _during(self, state: ast.Node, active: tuple[str, ...]) -> int:
-        """The start of a leaf state's during action, built once; it ends in the stable location."""
+    def _during(self, state: ast.Node, active: tuple[str, ...], owner: ast.Node | None = None) -> int:
+        """The start of a leaf state's during action (or, with `owner`, of the composite `owner`'s,
+        run in `state`), built once; it ends in the stable location of `state`."""
         if state.path not in self.during_start:
+            owner = owner or state
             first = len(self.a.locations)
-            start = self.a.location(f"{state.path}: during", active)
+            start = self.a.location(f"{owner.path}: during", active)
             self.during_start[state.path] = start
-            assert state.during is not None
-            end = self._stmt(start, state.during, active, f"{state.path}: during")
+            assert owner.during is not None
+            end = self._stmt(start, owner.during, active, f"{owner.path}: during")
             self._goto(end, self.stable[state.path])
             self.in_state[state.path] = [loc.index for loc in self.a.locations[first:]
                                          if loc.index != self.stable[state.path]]
