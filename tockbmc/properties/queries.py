@@ -333,6 +333,14 @@ def _constants(element: ast.StateMachine | ast.Controller | ast.Module) -> list[
     return list(found.values())
 
 
+def _no_defined_calls(c: ast.Controller, m: ast.StateMachine) -> None:
+    """A machine named inside its controller calls the operations the controller defines (`opref`)."""
+    defined = {op.operation.name for op in c.operations} & {op.name for op in m.operations}
+    if defined:
+        raise NotSupported(f"{c.name} defines operation(s) {', '.join(sorted(defined))} that {m.name} calls; "
+                           "calls of defined operations are not encoded yet")
+
+
 def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef | None:
     for group in (project.machines, project.controllers, project.modules, project.operations):
         for item in group:
@@ -341,6 +349,7 @@ def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controll
     for c in project.controllers:
         for m in c.machines:
             if name in (f"{c.qname}::{m.name}", f"{c.name}::{m.name}"):
+                _no_defined_calls(c, m.machine)
                 return m.machine
     for mod in project.modules:
         for ci in mod.controllers:
@@ -348,5 +357,6 @@ def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controll
                 return ci.controller
             for m in ci.controller.machines:
                 if name in (f"{mod.qname}::{ci.name}::{m.name}", f"{mod.name}::{ci.name}::{m.name}"):
+                    _no_defined_calls(ci.controller, m.machine)
                     return m.machine
     return None
