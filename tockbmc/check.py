@@ -47,7 +47,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
 
     try:
         q = query(project, a)
-        network = network_of(q.element)
+        network = network_of(q.element, dict(q.defined))
         check_encodable(network)
         consts = dict(settings)
         consts.update(dict(q.settings))

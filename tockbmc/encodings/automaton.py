@@ -97,6 +97,11 @@ class Automaton:
     locations: list[Location] = field(default_factory=list)
     edges: list[Edge] = field(default_factory=list)
     trigger_deadlines: list[TriggerDeadline] = field(default_factory=list)
+    # Declarations of the defined operations inlined at its calls: their variables and parameters
+    # (with the operation's name for their own, "" for interface variables shared by name) and clocks.
+    extra_variables: list[tuple[str, ast.Variable]] = field(default_factory=list)
+    extra_clocks: list[str] = field(default_factory=list)
+    inlined: dict[str, int] = field(default_factory=dict)  # operation name -> calls inlined so far
 
     def location(self, description: str, active: tuple[str, ...], kind: str = "action",
                  deadline: bool = False) -> int:
@@ -115,8 +120,9 @@ class Automaton:
     @property
     def clocks(self) -> tuple[str, ...]:
         """The machine's clocks, then the `sinceEntry` counters its expressions read."""
-        extra = sorted({r for e in self.edges for r in e.resets} - {c.name for c in self.machine.clocks})
-        return (*(c.name for c in self.machine.clocks), *extra)
+        own = [c.name for c in self.machine.clocks]
+        extra = sorted(({r for e in self.edges for r in e.resets} | set(self.extra_clocks)) - set(own))
+        return (*own, *extra)
 
     def _kinds(self, *kinds: str) -> frozenset[int]:
         return frozenset(loc.index for loc in self.locations if loc.kind in kinds)
@@ -140,9 +146,22 @@ class Automaton:
 
 
 class _Builder:
-    def __init__(self, machine: ast.StateMachine):
+    """Builds a machine's automaton; a nested builder inlines a defined operation at a call.
+
+    `defined` maps operation names to the definitions a controller binds (`opref`); `outer`
+    holds the caller's active states (prefixed to every location of an inlined operation), and
+    `calls` the operations being inlined (recursion is unsupported).
+    """
+
+    def __init__(self, machine: ast.Behaviour, automaton: Automaton | None = None,
+                 defined: dict[str, ast.OperationDef] | None = None, outer: tuple[str, ...] = (),
+                 in_deadline: bool = False, calls: tuple[str, ...] = ()):
         self.m = machine
-        self.a = Automaton(machine)
+        self.a = automaton or Automaton(machine)  # type: ignore[arg-type]
+        self.defined = defined or {}
+        self.outer = outer
+        self.calls = calls
+        self.ret: int | None = None  # for an inlined operation: where its final state returns to
         self.stable: dict[str, int] = {}
         self.junction: dict[str, int] = {}
         self.final_top: dict[str, int] = {}
@@ -150,9 +169,13 @@ class _Builder:
         self.in_state: dict[str, list[int]] = {}  # leaf state -> locations of its during action
         self.during_start: dict[str, int] = {}
         self.since_entry = self._since_entry_states()
-        self._in_deadline = False
+        self._in_deadline = in_deadline
         self.parent_during: dict[str, ast.Node] = {}  # child state -> composite whose during starts there
         self._check_supported()
+
+    def _location(self, description: str, active: tuple[str, ...], kind: str = "action",
+                  deadline: bool = False) -> int:
+        return self.a.location(description, (*self.outer, *active), kind, deadline or self._in_deadline)
 
     # ------------------------------------------------------------ support checks
 
@@ -199,8 +222,18 @@ class _Builder:
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
         for st in ast.statements(s):
-            if isinstance(st, ast.OperationCall) and isinstance(st.operation, ast.OperationDef):
-                raise Unsupported(st.pos, "calls of defined operations are not encoded yet")
+            if isinstance(st, ast.OperationCall):
+                op = self._definition(st)
+                if op is not None and op.qname in self.calls:
+                    raise Unsupported(st.pos, f"operation {op.name} calls itself; recursive operations are not "
+                                              "encoded")
+
+    def _definition(self, call: ast.OperationCall) -> ast.OperationDef | None:
+        """The definition a call runs (inlined), or None for a platform operation (an event)."""
+        op = call.operation if isinstance(call.operation, ast.OperationDef) else self.defined.get(call.operation.name)
+        if op is None or (op.terminates and not op.nodes):
+            return None  # an operation whose body is only `terminates` is the platform's (§2.2)
+        return op
 
     def _since_entry_states(self) -> set[str]:
         """The states whose time since entry some expression of the machine reads."""
@@ -222,27 +255,46 @@ class _Builder:
 
     def build(self) -> Automaton:
         # Stable locations first so that their numbers are easy to read.
-        start = self.a.location("start", (), "action")
+        start = self._location("start", (), "action")
+        self._layout()
+        # The machine starts by taking its top-level initial transition.
+        self._start(start)
+        self._transitions()
+        return self.a
+
+    def inline(self, cur: int) -> int:
+        """Run the operation from `cur` to one of its final states; returns where the caller goes on."""
+        self.ret = self._location("return", ())
+        self._layout()
+        self._start(cur)
+        self._transitions()
+        return self.ret
+
+    def _start(self, cur: int) -> None:
+        init = self._initial(None)
+        if init.action is not None:
+            cur = self._stmt(cur, init.action, (), f"{init.name}: action")
+        self._follow(cur, init, ())
+
+    def _layout(self) -> None:
         for n in self.m.nodes:
             if n.kind in ("state",) or (n.kind == "final" and n.parent is not None):
-                self.stable[n.path] = self.a.location(n.path, self.chain(n.path), "stable")
+                self.stable[n.path] = self._location(n.path, self.chain(n.path), "stable")
             elif n.kind == "junction":
-                self.junction[n.path] = self.a.location(n.path, self.ancestors(n.path), "junction")
+                self.junction[n.path] = self._location(n.path, self.ancestors(n.path), "junction")
+            elif n.kind == "final" and self.ret is not None:
+                self.final_top[n.path] = self.ret  # an operation's final state returns to its caller
             elif n.kind == "final":
-                self.final_top[n.path] = self.a.location(n.path, (n.path,), "final")
-        if self.final_top:
-            self.terminated = self.a.location("terminated", (), "terminated")
+                self.final_top[n.path] = self._location(n.path, (n.path,), "final")
+        if self.final_top and self.ret is None:
+            self.terminated = self._location("terminated", (), "terminated")
             for loc in self.final_top.values():
                 self.a.edge(loc, self.terminated, "terminate")
         for n in self.m.nodes:
             if n.during is not None and n.path in self.stable and not n.composite:
                 self._during(n, self.chain(n.path))
-        # The machine starts by taking its top-level initial transition.
-        init = self._initial(None)
-        cur = start
-        if init.action is not None:
-            cur = self._stmt(cur, init.action, (), f"{init.name}: action")
-        self._follow(cur, init, ())
+
+    def _transitions(self) -> None:
         armed: dict[str, set[int]] = {}
         for n in self.m.nodes:
             if n.path in self.stable:
@@ -264,7 +316,6 @@ class _Builder:
             if t.deadline is not None and t.name in armed:
                 self.a.trigger_deadlines.append(TriggerDeadline(t.name, t.source, t.deadline, t.condition,
                                                                 frozenset(armed[t.name])))
-        return self.a
 
     def _initial(self, region: str | None) -> ast.Transition:
         for n in self.m.nodes:
@@ -295,7 +346,7 @@ class _Builder:
         if t.is_else:
             negated = tuple((o.condition,) for o in group
                             if o is not t and o.condition is not None and o.trigger == t.trigger)
-        taken = self.a.location(f"taking {t.name}", active)
+        taken = self._location(f"taking {t.name}", active)
         trig = t.trigger
         resets = tuple(c.name for c in t.clock_resets)
         shared = self._common(t.source, t.target)
@@ -333,7 +384,7 @@ class _Builder:
         node = self.m.node(state)
         inside = (*active, state)
         if state in self.since_entry:
-            nxt = self.a.location(f"{state}: entering", inside)
+            nxt = self._location(f"{state}: entering", inside)
             self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),))
             cur = nxt
         if node.entry is not None:
@@ -368,7 +419,7 @@ class _Builder:
         if state.path not in self.during_start:
             owner = owner or state
             first = len(self.a.locations)
-            start = self.a.location(f"{owner.path}: during", active)
+            start = self._location(f"{owner.path}: during", active)
             self.during_start[state.path] = start
             assert owner.during is not None
             end = self._stmt(start, owner.during, active, f"{owner.path}: during")
@@ -400,17 +451,17 @@ class _Builder:
         if isinstance(s, ast.Deadline):
             if self._in_deadline:
                 raise Unsupported(s.pos, "nested deadlines '<{d}' are not encoded yet")
-            start = self.a.location(where, active, deadline=True)
+            start = self._location(where, active, deadline=True)
             self.a.edge(cur, start, "tau", deadline=s.bound)
             self._in_deadline = True
             try:
                 end = self._stmt(start, s.statement, active, where)
             finally:
                 self._in_deadline = False
-            nxt = self.a.location(where, active)
+            nxt = self._location(where, active)
             self.a.edge(end, nxt, "tau")
             return nxt
-        nxt = self.a.location(where, active, deadline=self._in_deadline)
+        nxt = self._location(where, active, deadline=self._in_deadline)
         if isinstance(s, ast.Assign):
             self.a.edge(cur, nxt, "tau", updates=(s,))
         elif isinstance(s, ast.Send):
@@ -418,17 +469,20 @@ class _Builder:
         elif isinstance(s, ast.Receive):
             self.a.edge(cur, nxt, "in", event=s.event, binds=s.variable)
         elif isinstance(s, ast.OperationCall):
-            assert isinstance(s.operation, ast.OperationSig)
-            self.a.edge(cur, nxt, "call", operation=s.operation, args=s.args)
+            op = self._definition(s)
+            if op is None:
+                self.a.edge(cur, nxt, "call", operation=s.operation, args=s.args)
+            else:
+                self._goto(self._inline(cur, op, s, active), nxt)
         elif isinstance(s, ast.ClockReset):
             self.a.edge(cur, nxt, "tau", resets=(s.clock.name,))
         elif isinstance(s, ast.Wait):
-            waiting = self.a.location(f"{where}: waiting", active, "waiting", self._in_deadline)
+            waiting = self._location(f"{where}: waiting", active, "waiting", self._in_deadline)
             self.a.edge(cur, waiting, "wait", wait_low=s.low, wait_high=s.high)
             self.a.edge(waiting, nxt, "tau", transition="wait over", ends_wait=True)
         elif isinstance(s, ast.If):
-            then_start = self.a.location(where, active, deadline=self._in_deadline)
-            else_start = self.a.location(where, active, deadline=self._in_deadline)
+            then_start = self._location(where, active, deadline=self._in_deadline)
+            else_start = self._location(where, active, deadline=self._in_deadline)
             self.a.edge(cur, then_start, "tau", guard=(s.condition,))
             self.a.edge(cur, else_start, "tau", negated_guards=((s.condition,),))
             self._goto(self._stmt(then_start, s.then, active, where), nxt)
@@ -438,11 +492,53 @@ class _Builder:
         return nxt
 
 
+    def _inline(self, cur: int, op: ast.OperationDef, call: ast.OperationCall, active: tuple[str, ...]) -> int:
+        """Inline a defined operation: parameters take the arguments, then its graph runs to a final state.
+
+        Its nodes and transitions are renamed `op().path` (numbered when inlined again) so that
+        they are distinct from the machine's; its variables and clocks are declared once.
+        """
+        self.a.inlined[op.name] = self.a.inlined.get(op.name, 0) + 1
+        label = f"{op.name}()" + (f"#{self.a.inlined[op.name]}" if self.a.inlined[op.name] > 1 else "")
+        for v in (*op.parameters, *op.variables):
+            if (op.name, v) not in self.a.extra_variables:
+                self.a.extra_variables.append((op.name, v))
+        for v in op.interface_variables:
+            if ("", v) not in self.a.extra_variables:
+                self.a.extra_variables.append(("", v))
+        self.a.extra_clocks += [c.name for c in op.clocks if c.name not in self.a.extra_clocks]
+        if op.parameters:
+            nxt = self._location(f"call {op.name}", active)
+            updates = tuple(ast.Assign(call.pos, p, (), a) for p, a in zip(op.parameters, call.args, strict=True))
+            self.a.edge(cur, nxt, "tau", updates=updates)
+            cur = nxt
+        inner = _Builder(_renamed(op, label), self.a, self.defined, (*self.outer, *active), self._in_deadline,
+                         (*self.calls, op.qname))
+        return inner.inline(cur)
+
+
+def _renamed(op: ast.OperationDef, label: str) -> ast.OperationDef:
+    """The operation with its node paths and transition names prefixed by `label.`."""
+
+    def path(p: str | None) -> str | None:
+        return None if p is None else f"{label}.{p}"
+
+    nodes = tuple(dataclasses.replace(n, path=f"{label}.{n.path}", parent=path(n.parent),
+                                      children=tuple(path(c) or "" for c in n.children)) for n in op.nodes)
+    transitions = tuple(dataclasses.replace(t, name=f"{label}.{t.name}", source=path(t.source) or "",
+                                            target=path(t.target) or "", container=path(t.container))
+                        for t in op.transitions)
+    return dataclasses.replace(op, nodes=nodes, transitions=transitions)
+
+
 def _reads(e: ast.Expr | None, v: ast.Variable) -> bool:
     """Whether expression `e` reads variable `v`."""
     return any(isinstance(x, ast.VarRef) and x.variable is v for x in ast.subexpressions(e))
 
 
-def compile_machine(machine: ast.StateMachine) -> Automaton:
-    """The automaton of one state machine; raises `Unsupported` for what is not encoded yet."""
-    return _Builder(machine).build()
+def compile_machine(machine: ast.StateMachine, defined: dict[str, ast.OperationDef] | None = None) -> Automaton:
+    """The automaton of one state machine; raises `Unsupported` for what is not encoded yet.
+
+    `defined` gives the definitions its controller binds to the operations it calls (`opref`).
+    """
+    return _Builder(machine, defined=defined).build()

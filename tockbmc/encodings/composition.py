@@ -102,8 +102,9 @@ class _Flattener:
         self.scopes: dict[tuple[int, str], str] = {}
         self.platform: set[str] = set()
 
-    def machine(self, m: ast.StateMachine, instance: str) -> int:
-        self.components.append(Component(instance, compile_machine(m)))
+    def machine(self, m: ast.StateMachine, instance: str,
+                defined: dict[str, ast.OperationDef] | None = None) -> int:
+        self.components.append(Component(instance, compile_machine(m, defined)))
         return len(self.components) - 1
 
     def link(self, sender: Port | External, receiver: Port | External, asynchronous: bool, pos: ast.Pos) -> None:
@@ -125,7 +126,8 @@ class _Flattener:
         A variable of an interface the machine provides is its own.  One that no
         enclosing element declares is shared by the controller's machines.
         """
-        for v in m.interface_variables:
+        inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope]
+        for v in (*m.interface_variables, *inlined):
             if v.owner in m.provided_interfaces or v.owner.rsplit("::", 1)[-1] in m.provided_interfaces:
                 continue
             key = f"{controller}.{v.name}"
@@ -142,15 +144,13 @@ class _Flattener:
         (inputs: controller event → receiving ports, outputs: sending ports),
         each with whether that inner connection is asynchronous.
         """
-        if c.operations:
-            op = c.operations[0]
-            raise Unsupported(op.pos, "defined operations inside controllers are not encoded yet")
+        defined = {op.operation.name: op.operation for op in c.operations}
         names = [mi.machine.name for mi in c.machines]
         index: dict[str, int] = {}
         self.share(c.variables, f"{prefix}{c.name}.")
         for mi in c.machines:
             label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
-            index[mi.name] = self.machine(mi.machine, f"{prefix}{label}")
+            index[mi.name] = self.machine(mi.machine, f"{prefix}{label}", defined)
             self.require(index[mi.name], mi.machine, f"{prefix}{c.name}")
         inputs: dict[str, list[tuple[Port, bool]]] = {}
         outputs: dict[str, list[tuple[Port, bool]]] = {}
@@ -185,10 +185,13 @@ class _Flattener:
         return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared), dict(self.scopes))
 
 
-def of_machine(m: ast.StateMachine) -> Network:
-    """A machine on its own: every event visible under the machine's name."""
+def of_machine(m: ast.StateMachine, defined: dict[str, ast.OperationDef] | None = None) -> Network:
+    """A machine on its own: every event visible under the machine's name.
+
+    `defined`: for a machine named inside its controller, the operations the controller defines.
+    """
     f = _Flattener(m.name)
-    f.machine(m, m.name)
+    f.machine(m, m.name, defined)
     return f.network()
 
 
@@ -249,10 +252,11 @@ def of_module(m: ast.Module) -> Network:
     return f.network()
 
 
-def network_of(element: ast.StateMachine | ast.Controller | ast.Module) -> Network:
-    """The network of a machine, controller or module."""
+def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
+               defined: dict[str, ast.OperationDef] | None = None) -> Network:
+    """The network of a machine (with the operations its controller defines), controller or module."""
     if isinstance(element, ast.StateMachine):
-        return of_machine(element)
+        return of_machine(element, defined)
     if isinstance(element, ast.Controller):
         return of_controller(element)
     return of_module(element)

@@ -198,13 +198,14 @@ class System:
                 self._slot(f"{comp.name}.armed.{td.transition}", z3.IntSort())
             slots: dict[int, tuple[str, ast.Type]] = {}
             consts: dict[int, Value] = {}
-            for v in (*m.variables, *m.interface_variables):
+            own = [("", v) for v in (*m.variables, *m.interface_variables)]
+            for scope, v in (*own, *comp.automaton.extra_variables):
                 if v.type == ast.STRING:
                     raise Unsupported(v.pos, "string variables are not encoded yet")
                 # A required variable is shared under its scope key; anything else is the machine's own.
                 key = self.network.scopes.get((c, v.name)) if v.kind == "interface" else None
                 decl = self.network.shared.get(key, v) if key is not None else v
-                if v.constant:
+                if v.constant and v.kind != "parameter":  # parameters of inlined operations are assigned
                     if key is not None and key in shared_consts:
                         consts[id(v)] = shared_consts[key]
                         continue
@@ -212,7 +213,7 @@ class System:
                     if key is not None:
                         shared_consts[key] = consts[id(v)]
                     continue
-                base = key or f"{comp.name}.{v.name}"
+                base = key or (f"{comp.name}.{scope}().{v.name}" if scope else f"{comp.name}.{v.name}")
                 slots[id(v)] = (base, v.type)
                 if base not in self.initial:
                     self._scalars(base, v.type)

@@ -50,6 +50,7 @@ class Query:
     after_reason: str = ""
     context: Context | None = None  # the CSP operators around the element, and a monitor
     settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
+    defined: tuple[tuple[str, ast.OperationDef], ...] = ()  # a machine in its controller: the operations it defines
     inclusion: Proc | None = None  # a specification every trace of which must be the element's
     spec_name: str = ""
 
@@ -126,9 +127,10 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
         if a.kind != "timelock-free":
             raise NotSupported(f"'{subject}' runs a process after the model terminates; only refinement and "
                                "timelock-freedom checks support that")
-        return _timelock_after(a, element, name, context, settings)
+        return _timelock_after(a, element, name, context, settings, _defined(project, impl))
     q = _query(a, element, name)
-    return Query(a, element, q.goals, q.after, q.after_reason, context, settings)
+    return Query(a, element, q.goals, q.after, q.after_reason, context, settings,
+                 defined=_defined(project, impl))
 
 
 def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str) -> Query:
@@ -201,11 +203,13 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
         raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a process "
                            "follows the model's termination")
     return Query(a, element, goals, context=Context(impl, sem, spec if goals else None, spec_name or ""),
+                 defined=_defined(project, impl),
                  settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "")
 
 
 def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str,
-                    context: Context, settings: tuple[tuple[str, ast.Expr], ...]) -> Query:
+                    context: Context, settings: tuple[tuple[str, ast.Expr], ...],
+                    defined: tuple[tuple[str, ast.OperationDef], ...]) -> Query:
     """Timelock-freedom of `P ; T`: a terminated element is a timelock only if what follows can be one."""
     rest = context.tail_timelock()
 
@@ -221,7 +225,7 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
 
     goal = Goal(target, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
                 "violated" if a.negated else "holds", describe)
-    return Query(a, element, (goal,), context=context, settings=settings)
+    return Query(a, element, (goal,), context=context, settings=settings, defined=defined)
 
 
 def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
@@ -333,12 +337,18 @@ def _constants(element: ast.StateMachine | ast.Controller | ast.Module) -> list[
     return list(found.values())
 
 
-def _no_defined_calls(c: ast.Controller, m: ast.StateMachine) -> None:
-    """A machine named inside its controller calls the operations the controller defines (`opref`)."""
-    defined = {op.operation.name for op in c.operations} & {op.name for op in m.operations}
-    if defined:
-        raise NotSupported(f"{c.name} defines operation(s) {', '.join(sorted(defined))} that {m.name} calls; "
-                           "calls of defined operations are not encoded yet")
+def _defined(project: ast.Project, impl: Implementation) -> tuple[tuple[str, ast.OperationDef], ...]:
+    return tuple(_controller_operations(project, impl.element).items())
+
+
+def _controller_operations(project: ast.Project, name: str) -> dict[str, ast.OperationDef]:
+    """For a machine named inside its controller (`Ctrl::stm`, `Mod::ctrl::stm`): the operations the
+    controller defines (`opref`), which its calls run."""
+    for c in (*project.controllers, *(ci.controller for mod in project.modules for ci in mod.controllers)):
+        for m in c.machines:
+            if name.endswith(f"{c.name}::{m.name}"):
+                return {op.operation.name: op.operation for op in c.operations}
+    return {}
 
 
 def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef | None:
@@ -349,7 +359,6 @@ def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controll
     for c in project.controllers:
         for m in c.machines:
             if name in (f"{c.qname}::{m.name}", f"{c.name}::{m.name}"):
-                _no_defined_calls(c, m.machine)
                 return m.machine
     for mod in project.modules:
         for ci in mod.controllers:
@@ -357,6 +366,5 @@ def _element(project: ast.Project, name: str) -> ast.StateMachine | ast.Controll
                 return ci.controller
             for m in ci.controller.machines:
                 if name in (f"{mod.qname}::{ci.name}::{m.name}", f"{mod.name}::{ci.name}::{m.name}"):
-                    _no_defined_calls(ci.controller, m.machine)
                     return m.machine
     return None
