@@ -117,3 +117,27 @@ CSP_EXPECTED = {
 def test_csp_review_case(case: str) -> None:
     results = {r.assertion: r.verdict for r in check(load(CSP_REVIEW / case), bound=12)}
     assert results == CSP_EXPECTED[case]
+
+
+def test_recursive_operation_is_unsupported(tmp_path) -> None:
+    """An operation that calls itself cannot be inlined: `unsupported` at the call."""
+    rct = """
+interface Ops { loop() }
+stm M {
+  requires Ops
+  initial i
+  state s { entry loop() }
+  transition t0 { from i to s }
+}
+controller C {
+  operation loop() {
+    requires Ops
+    initial i
+    final f
+    transition t0 { from i to f action loop() }
+  }
+  sref m = M
+}
+"""
+    rs = run(tmp_path, rct, "assertion D: C is deadlock-free.\n")
+    assert rs["D"].verdict == "unsupported" and "itself" in (rs["D"].reason or ""), rs["D"].reason

@@ -139,6 +139,107 @@ stm M {
     expect(rs["Later"], "holds", ["M::opCall.2", "tock"])
 
 
+def test_rule2_defined_operation_runs_to_its_final_state(tmp_path) -> None:
+    """§2.2 read with §2.7: `double(3)` is not a platform operation but one the controller defines,
+    so the call runs its graph: the parameter n is 3, its own variable k becomes 6 on entering s,
+    and leaving s outputs k; only then does M's entry go on to output 1. So the outputs are
+    <C::out.out.6, C::out.out.1> in that order (tocks may come between: outputs are not urgent)."""
+    rct = """
+interface Ops { double(n : int) }
+stm M {
+  requires Ops
+  event out : int
+  initial i
+  state s { entry double(3) ; out!1 }
+  transition t0 { from i to s }
+}
+controller C {
+  event out : int
+  operation double(n : int) {
+    event out : int
+    var k : int = 0
+    initial i
+    state s { entry k = n * 2 }
+    final f
+    transition t0 { from i to s }
+    transition t1 { from s to f action out!k }
+  }
+  sref m = M
+  connection m on out to C on out
+}
+"""
+    text = """
+timed csp Both csp-begin
+Timed(OneStep) { Both = C::out.out.6 -> C::out.out.1 -> STOP }
+csp-end
+timed csp OneFirst csp-begin
+Timed(OneStep) { OneFirst = C::out.out.1 -> STOP }
+csp-end
+assertion A: C refines Both in the traces model.
+assertion B: C refines OneFirst in the traces model.
+"""
+    rs = run(tmp_path, rct, text)
+    expect(rs["A"], "holds")
+    expect(rs["B"], "violated", ["C::out.out.6"])
+
+
+def test_rule7_defined_operation_in_a_during_is_abandoned(tmp_path) -> None:
+    """§2.7 and §2.9: the during of s calls `slow()`, which waits exactly 2 tocks and then outputs
+    tick; stop (a transition of s) abandons it at any time. So tick comes only after two tocks
+    (Two holds), and a specification demanding three tocks first is violated by
+    <tock, tock, C::tick.out>."""
+    rct = """
+interface Ops { slow() }
+stm M {
+  requires Ops
+  event tick
+  event stop
+  initial i
+  state s { during slow() }
+  state done {}
+  transition t0 { from i to s }
+  transition t1 { from s to done trigger stop }
+}
+controller C {
+  event tick
+  event stop
+  operation slow() {
+    event tick
+    initial i
+    state w { entry wait(2) }
+    final f
+    transition t0 { from i to w }
+    transition t1 { from w to f action tick }
+  }
+  sref m = M
+  connection m on tick to C on tick
+  connection C on stop to m on stop
+}
+"""
+    text = """
+timed csp Two csp-begin
+Two = C::stop.in -> RUN({tock}) [] tock -> Two1
+Two1 = C::stop.in -> RUN({tock}) [] tock -> Two2
+Two2 = C::stop.in -> RUN({tock}) [] tock -> Two2 [] C::tick.out -> After
+After = C::stop.in -> RUN({tock}) [] tock -> After
+csp-end
+timed csp Three csp-begin
+Three = C::stop.in -> RUN({tock}) [] tock -> Three1
+Three1 = C::stop.in -> RUN({tock}) [] tock -> Three2
+Three2 = C::stop.in -> RUN({tock}) [] tock -> Three3
+Three3 = C::stop.in -> RUN({tock}) [] tock -> Three3 [] C::tick.out -> After3
+After3 = C::stop.in -> RUN({tock}) [] tock -> After3
+csp-end
+assertion A: C refines Two in the traces model.
+assertion B: C refines Three in the traces model.
+assertion R: done is reachable in C.
+"""
+    rs = run(tmp_path, rct, text)
+    expect(rs["A"], "holds")
+    expect(rs["B"], "violated", ["tock", "tock", "C::tick.out"])
+    expect(rs["R"], "holds")
+
+
 # ---------------------------------------------------------------------------- rule 3
 
 
