@@ -327,6 +327,10 @@ def _constants(element: ast.StateMachine | ast.Controller | ast.Module) -> list[
         for v in element.variables:
             if v.constant:
                 found.setdefault(v.name, v)
+        for op in element.operations:
+            for v in (*op.operation.variables, *op.operation.interface_variables):
+                if v.constant:
+                    found.setdefault(v.name, v)
         for m in element.machines:
             for v in _constants(m.machine):
                 found.setdefault(v.name, v)
