@@ -34,8 +34,8 @@ DIFFERENCES = {
     for name in ("M_term", "C1_term", "STM1_term", "M_timelock_free", "C1_timelock_free", "STM1_timelock_free")
 }
 DIFFERENCES[("test-core-assertions", "A1")] = (
-    "unknown", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always offers "
-               "M::e.in and never deadlocks; a bounded search cannot show 'is not deadlock-free', so it is unknown")
+    "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always offers "
+                "M::e.in and never deadlocks (k-induction shows it for every length)")
 DIFFERENCES[("test8", "A2")] = (
     "violated", "controller variable x has no initial value: semantics.md §2.14 lets it start at any value of "
                 "core_nat=0..2, so M can output e1.1; RoboTool starts it at 0, nat's default, as TSpec assumes")
@@ -46,8 +46,8 @@ _ITYPE2NAT = ("function IType2nat has no body in the model: semantics.md §15 ma
 for _case in ("clocks-ops2", "clocks-ops3"):
     DIFFERENCES[(_case, "A1")] = ("violated", _ITYPE2NAT)
     DIFFERENCES[(_case, "A0")] = (
-        "unknown", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always "
-                   "offers M::i.in and never deadlocks; a bounded search cannot show 'is not deadlock-free'")
+        "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always "
+                    "offers M::i.in and never deadlocks (k-induction shows it for every length)")
 
 DIFFERENCES[("clocks-ops1", "A4")] = (
     "violated", "semantics.md §2.12: the (_async) connection from the platform's i accepts M::i.in at any time "

@@ -15,7 +15,7 @@ from tockbmc.model import ast
 from tockbmc.model.csp import CspError
 from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
 from tockbmc.properties.process import MonitorExtension
-from tockbmc.properties.queries import NotSupported, query
+from tockbmc.properties.queries import Goal, NotSupported, query
 from tockbmc.report.trace import decode
 
 DEFAULT_BOUND = 40
@@ -55,9 +55,18 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
         reasons: list[str] = []
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
-            system = System(network, ranges, consts, context=q.context)
-            prover = ((lambda: System(network, ranges, consts, tag="k.", context=q.context))
-                      if goal.stateless and induction else None)
+            def build(tag: str = "", goal: Goal = goal) -> System:
+                s = System(network, ranges, consts, tag=tag, context=q.context)
+                if goal.prepare is not None:
+                    goal.prepare(s)
+                return s
+
+            system = build()
+            if not goal.applies(system):
+                if goal.skipped:
+                    reasons.append(goal.skipped)
+                continue
+            prover = (lambda: build("k.")) if goal.stateless and induction else None
             outcome = bmc(system, goal.target, bound, remaining, prover)
             if outcome.status == "unknown":
                 return result("unknown", outcome.reason)

@@ -105,15 +105,23 @@ class System:
         self.moves = self._moves()
         self.TOCK = len(self.moves) - 1
         self.tock_hidden = False
-        self.extension: Extension | None = None
+        self.extension: Extension | None = None  # the CSP context's (a monitor or a trace follower)
+        self.extensions: list[Extension] = []  # every extension, that one included
         self.extension_slots: dict[str, z3.SortRef] = {}
         if context is not None:
             self.moves = [self._in_context(context, m) for m in self.moves]
             self.tock_hidden = context.status(("tock",), 0) == "hidden"
             self.extension = context.attach(self)
             if self.extension is not None:
-                self.extension_slots = self.extension.slots()
-                self.sorts.update(self.extension_slots)
+                self.add(self.extension)
+
+    def add(self, extension: Extension) -> None:
+        """Run extra state beside the network (before any configuration is created)."""
+        assert not self.frames, "extensions are added before the unrolling starts"
+        self.extensions.append(extension)
+        slots = extension.slots()
+        self.extension_slots.update(slots)
+        self.sorts.update(slots)
 
     def _in_context(self, context: Context, m: Move) -> Move:
         if m.kind != "event":
@@ -547,8 +555,7 @@ class System:
         for link in self.network.links:
             if link.asynchronous:
                 cs.append(z3.Not(f[f"buffer{link.index}.full"]))
-        if self.extension is not None:
-            cs.append(self.extension.init(self))
+        cs += [ext.init(self) for ext in self.extensions]
         return z3.And(cs)
 
     def invariants(self) -> list[z3.BoolRef]:
@@ -575,8 +582,7 @@ class System:
             for taken, term in changes.get(name, []):
                 new = z3.If(taken, term, new)
             cs.append(t[name] == new)
-        if self.extension is not None:
-            cs.append(self.extension.step(self, i))
+        cs += [ext.step(self, i) for ext in self.extensions]
         return z3.And(cs)
 
     def side_constraints(self) -> list[z3.BoolRef]:

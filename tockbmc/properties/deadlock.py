@@ -41,12 +41,74 @@ def time_only(system: System, k: int) -> z3.BoolRef:
     return z3.And(z3.Not(system.halted(k)), system.tock_enabled(k), *calm, _nothing_ever(system, k))
 
 
-def may_diverge(system: System) -> bool:
-    """Whether some machine has a cycle of steps that can be internal; without one, no run diverges.
+def may_diverge(system: System, limit: int = 200_000) -> bool:
+    """Whether some run might repeat internal steps for ever; False means none does.
 
-    A cycle of internal moves returns every machine that took part to where it
-    was, so at least one machine has a cycle of its own among those edges.
+    Cheap first: a cycle of internal moves returns every machine that took part to
+    where it was, so some machine has a cycle of its own among those edges.  If one
+    does, the network is explored with data abstracted away (locations and buffer
+    fullness only, every guard assumed true): a divergence needs a cycle of internal
+    moves among the abstract configurations reachable from the initial one.
     """
+    if not _machine_cycle(system):
+        return False
+    return _abstract_cycle(system, limit)
+
+
+def _abstract_cycle(system: System, limit: int) -> bool:
+    """A cycle of internal moves among reachable (location, buffer-full) configurations, or too many."""
+    links = [link for link in system.network.links if link.asynchronous]
+    slot = {link.index: i for i, link in enumerate(links)}
+    n = len(system.components)
+
+    by_source: dict[tuple[int, int], list] = {}
+    free = []  # the environment's side of a buffer: no machine takes part
+    for m in system.moves:
+        if m.kind == "tock" or m.blocked:
+            continue
+        if m.parts:
+            c, e = m.parts[0]
+            by_source.setdefault((c, e.source), []).append(m)
+        else:
+            free.append(m)
+
+    def successors(state: tuple[int, ...]) -> list[tuple[bool, tuple[int, ...]]]:
+        out = []
+        for m in [*free, *(x for c in range(n) for x in by_source.get((c, state[c]), ()))]:
+            new = list(state)
+            if any(state[c] != e.source for c, e in m.parts):
+                continue
+            for c, e in m.parts:
+                new[c] = e.target
+            if m.link is not None and m.link.index in slot:
+                full = n + slot[m.link.index]
+                if m.role in ("read", "env-read"):
+                    if not state[full]:
+                        continue
+                    new[full] = 0
+                elif m.role in ("write", "env-write"):
+                    new[full] = 1
+            out.append((m.kind == "internal", tuple(new)))
+        return out
+
+    start = tuple([0] * n + [0] * len(links))
+    seen = {start}
+    todo = [start]
+    internal: dict[tuple[int, ...], set[tuple[int, ...]]] = {}
+    while todo:
+        state = todo.pop()
+        for is_internal, nxt in successors(state):
+            if is_internal:
+                internal.setdefault(state, set()).add(nxt)
+            if nxt not in seen:
+                if len(seen) >= limit:
+                    return True  # too many to tell: search for a lasso
+                seen.add(nxt)
+                todo.append(nxt)
+    return _has_cycle(internal)  # type: ignore[arg-type]
+
+
+def _machine_cycle(system: System) -> bool:
     for c in range(len(system.components)):
         graph: dict[int, set[int]] = {}
         for m in system.moves:
@@ -80,17 +142,47 @@ def _has_cycle(graph: dict[int, set[int]]) -> bool:
     return False
 
 
+class LoopWatch:
+    """Liveness to safety for divergence: a copy of one configuration, chosen freely, after which
+    every step must be internal; a lasso is the configuration coming back to the copy.
+
+    The target then reads only the configuration at k (the copy is part of it), so each depth adds
+    one comparison rather than one per earlier step, and k-induction applies.
+    """
+
+    def __init__(self, system: System):
+        self.watched = [n for n in system.sorts if not n.startswith("loop.")]
+        self.sorts = {n: system.sorts[n] for n in self.watched}
+        self.internal = [m.index for m in system.moves if m.kind == "internal"]
+
+    def slots(self) -> dict[str, z3.SortRef]:
+        return {"loop.saved": z3.BoolSort(), **{f"loop.copy.{n}": s for n, s in self.sorts.items()}}
+
+    def init(self, system: System) -> z3.BoolRef:
+        return z3.Not(system.frame(0)["loop.saved"])
+
+    def step(self, system: System, i: int) -> z3.BoolRef:
+        f, g = system.frame(i), system.frame(i + 1)
+        save = z3.Bool(f"{system.tag}loop.save@{i}")
+        saved = z3.Or(f["loop.saved"], save)
+        copy = [g[f"loop.copy.{n}"] == z3.If(f["loop.saved"], f[f"loop.copy.{n}"], f[n]) for n in self.watched]
+        internal = z3.Or([system.action(i) == x for x in self.internal] or [z3.BoolVal(False)])
+        return z3.And(g["loop.saved"] == saved, z3.Implies(saved, internal), *copy)
+
+    def back(self, system: System, k: int) -> z3.BoolRef:
+        f = system.frame(k)
+        return z3.And(f["loop.saved"], *[f[n] == f[f"loop.copy.{n}"] for n in self.watched])
+
+
+def watch_loops(system: System) -> None:
+    if may_diverge(system) and not any(isinstance(e, LoopWatch) for e in system.extensions):
+        system.add(LoopWatch(system))
+
+
 def diverges(system: System, k: int) -> z3.BoolRef:
-    """The configuration at k repeats one at j < k, with only internal steps in between."""
-    if not may_diverge(system):
-        return z3.BoolVal(False)
-    internal = [m.index for m in system.moves if m.kind == "internal"]
-    loops = []
-    for j in range(k):
-        same = [system.frame(j)[n] == system.frame(k)[n] for n in system.sorts]
-        steps = [z3.Or([system.action(i) == x for x in internal]) for i in range(j, k)]
-        loops.append(z3.And(*same, *steps))
-    return z3.Or(loops) if loops else z3.BoolVal(False)
+    """A configuration seen earlier comes back with only internal steps in between (a lasso)."""
+    watch = next((e for e in system.extensions if isinstance(e, LoopWatch)), None)
+    return watch.back(system, k) if watch is not None else z3.BoolVal(False)
 
 
 def deadlocked(system: System, k: int) -> z3.BoolRef:
@@ -106,7 +198,21 @@ def _describe(system: System, model: z3.ModelRef, k: int) -> str:
     return f"{name} has not terminated and refuses every event, tock included"
 
 
+def stopped(system: System, k: int) -> z3.BoolRef:
+    """Refusal or time only: read only the configuration at k, so k-induction applies."""
+    return z3.Or(stuck(system, k), time_only(system, k))
+
+
 def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
+    """`is not deadlock-free` searches the three together for a shortest witness. `is deadlock-free`
+    first rules out refusal and time-only configurations (with k-induction, so possibly for every
+    length), then divergence (bounded: a lasso reads earlier configurations), which is searched only
+    when some machine has a cycle of internal steps."""
     if negated:
-        return (Goal(deadlocked, "holds", "unknown", "violated", _describe, stateless=False),)
-    return (Goal(deadlocked, "violated", "holds", "holds", _describe, stateless=False),)
+        return (Goal(deadlocked, "holds", "unknown", "violated", _describe, prepare=watch_loops),)
+    return (Goal(stopped, "violated", "holds", "holds", _describe,
+                 claim="no configuration refuses everything or offers only tock for ever"),
+            Goal(diverges, "violated", "holds", "holds", _describe, prepare=watch_loops,
+                 claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
+                 skipped="no run can repeat internal steps for ever (even with data ignored, internal steps "
+                         "form no cycle)"))

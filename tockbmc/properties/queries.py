@@ -39,6 +39,9 @@ class Goal:
     describe: Callable[[System, z3.ModelRef, int], str]  # what reaching the target means, for the report
     stateless: bool = True  # the target reads only the configuration at k (so induction applies)
     claim: str = "no run reaches a violation"  # what not reaching the target shows
+    applies: Callable[[System], bool] = lambda system: True  # searched only when this holds
+    skipped: str = ""  # what not applying shows
+    prepare: Callable[[System], None] | None = None  # adds what the target needs (before the unrolling)
 
 
 @dataclass(frozen=True)
