@@ -83,7 +83,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
                 verdict = goal.unreachable
                 why = (f"{goal.claim}, shown for runs of every length, not only up to {bound} steps "
                        f"({outcome.reason})" if verdict == "holds"
-                       else f"no run of any length reaches it ({outcome.reason})")
+                       else f"no run of any length reaches {goal.sought} ({outcome.reason})")
             elif goal.not_found == "holds":
                 verdict, why = "holds", f"{goal.claim} within {bound} steps"
             else:

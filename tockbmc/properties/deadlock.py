@@ -209,7 +209,8 @@ def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     length), then divergence (bounded: a lasso reads earlier configurations), which is searched only
     when some machine has a cycle of internal steps."""
     if negated:
-        return (Goal(deadlocked, "holds", "unknown", "violated", _describe, prepare=watch_loops),)
+        return (Goal(deadlocked, "holds", "unknown", "violated", _describe, prepare=watch_loops,
+                     sought="a deadlock (refusal, time only, or divergence)"),)
     return (Goal(stopped, "violated", "holds", "holds", _describe,
                  claim="no configuration refuses everything or offers only tock for ever"),
             Goal(diverges, "violated", "holds", "holds", _describe, prepare=watch_loops,

@@ -41,6 +41,7 @@ class Goal:
     claim: str = "no run reaches a violation"  # what not reaching the target shows
     applies: Callable[[System], bool] = lambda system: True  # searched only when this holds
     skipped: str = ""  # what not applying shows
+    sought: str = "it"  # what the target is, for "no run of any length reaches …"
     prepare: Callable[[System], None] | None = None  # adds what the target needs (before the unrolling)
 
 
@@ -147,11 +148,12 @@ def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Mo
                           claim="no configuration short of termination refuses every event")
         if a.negated:
             return Query(a, element, (Goal(terminated, "violated", "holds", "holds", says(f"{name} has terminated")),))
-        reach = Goal(terminated, "holds", "unknown", "violated", says(f"{name} has terminated"))
+        reach = Goal(terminated, "holds", "unknown", "violated", says(f"{name} has terminated"),
+                     sought="termination")
         return Query(a, element, (stuck_goal, reach))
     if a.kind == "timelock-free":
         goal = Goal(timelocked, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
-                    "violated" if a.negated else "holds", _what_refuses)
+                    "violated" if a.negated else "holds", _what_refuses, sought="a configuration that refuses tock")
         return Query(a, element, (goal,))
     if a.kind == "deadlock-free":
         from tockbmc.properties.deadlock import deadlock_goals
@@ -161,7 +163,8 @@ def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Mo
         if a.negated:
             goal = Goal(target, "violated", "holds", "holds", says(f"state {a.subject} is entered"))
         else:
-            goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"))
+            goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"),
+                        sought=f"state {a.subject}")
         return Query(a, element, (goal,))
     raise NotSupported(f"'{a.kind}' assertions are not supported yet")
 
@@ -227,7 +230,7 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
         return f"{name} refuses tock here"
 
     goal = Goal(target, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
-                "violated" if a.negated else "holds", describe)
+                "violated" if a.negated else "holds", describe, sought="a configuration that refuses tock")
     return Query(a, element, (goal,), context=context, settings=settings, defined=defined)
 
 
@@ -252,7 +255,7 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
         return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
 
     if a.negated:
-        return Goal(violated, "holds", "unknown", "violated", describe,
+        return Goal(violated, "holds", "unknown", "violated", describe, sought=f"a trace {a.other} cannot do",
                     claim=f"every trace is a trace of {a.other}")
     return Goal(violated, "violated", "holds", "holds", describe, claim=f"every trace is a trace of {a.other}")
 
