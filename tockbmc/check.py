@@ -15,8 +15,8 @@ from tockbmc.model import ast
 from tockbmc.model.csp import CspError
 from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
 from tockbmc.properties.process import MonitorExtension
-from tockbmc.properties.queries import Goal, NotSupported, query
-from tockbmc.report.trace import decode
+from tockbmc.properties.queries import Goal, NotSupported, Query, query
+from tockbmc.report.trace import decode, initial_choices
 
 DEFAULT_BOUND = 40
 
@@ -41,9 +41,10 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
     described = ranges.describe()
     pos = str(a.pos)
 
-    def result(verdict: str, reason: str | None, trace: tuple = (), searched: int | None = bound) -> Result:
+    def result(verdict: str, reason: str | None, trace: tuple = (), searched: int | None = bound,
+               extra: dict | None = None) -> Result:
         return Result(a.name, a.text, verdict, searched, described, time.perf_counter() - start, reason,
-                      trace=trace, pos=pos)
+                      trace=trace, pos=pos, extra=extra or {})
 
     try:
         q = query(project, a)
@@ -78,7 +79,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
                 why = goal.describe(system, outcome.model, outcome.depth)
                 if goal.found == "holds" and reasons:  # earlier goals found nothing wrong
                     why = "; ".join([*reasons, f"witness: {why}"])
-                return result(goal.found, why, trace=trace)
+                replayed = replay_trace(q, a, goal, trace, initial_choices(system, outcome.model), ranges, consts)
+                return result(goal.found, why, trace=trace, extra={"replayed": replayed})
             if outcome.status == "proved":
                 verdict = goal.unreachable
                 why = (f"{goal.claim}, shown for runs of every length, not only up to {bound} steps "
@@ -118,3 +120,35 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
     except (Unsupported, CspError) as exc:
         return result("unsupported", f"{exc.what} ({exc.pos})")
     return result("holds", "; ".join(reasons))
+
+
+def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,
+                 consts: dict[str, ast.Expr]) -> str:
+    """Replay a counterexample with the independent interpreter (`explicit.replay`).
+
+    Returns "yes", or "no: why" when the interpreter cannot run the model (a construct it does
+    not interpret); raises `ReplayFailure` when it runs it but cannot follow the trace.
+    """
+    from tockbmc.explicit.engine import _is_state, python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
+    from tockbmc.explicit.replay import replay
+    from tockbmc.properties.queries import stuck, terminated, timelocked
+
+    try:
+        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined))
+
+        def final(config: object, steps: list) -> bool:
+            if goal.target is terminated:
+                return interp.terminated(config)  # type: ignore[arg-type]
+            if goal.target is stuck:
+                return not steps and not interp.terminated(config)  # type: ignore[arg-type]
+            if goal.target is timelocked or a.kind == "timelock-free":
+                return not any(s.kind in ("internal", "tock") for s in steps)
+            if a.kind == "reachable":
+                return any(_is_state(m, s, a.subject) for m, s in interp.states(config).items())  # type: ignore[arg-type]
+            return True
+
+        replay(interp, trace, choices, q.context, final)
+    except (NotInterpretable, Unbounded, NotSupported) as exc:
+        return f"no: {getattr(exc, 'what', None) or exc}"
+    return "yes"

@@ -10,6 +10,7 @@ from typing import TypeVar
 
 import click
 from rich.console import Console
+from rich.text import Text
 
 from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
@@ -17,7 +18,7 @@ from tockbmc.check import check as run_check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ModelError, Project, ast, load
 from tockbmc.report.diagnostics import render, summary
-from tockbmc.report.results import print_results
+from tockbmc.report.results import print_results, print_trace
 from tockbmc.report.results import summary as summary_counts
 from tockbmc.report.results import to_json as results_json
 from tockbmc.report.structure import project_data, project_tree
@@ -123,8 +124,12 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--engine", type=click.Choice(["bmc", "explicit"]), default="bmc", show_default=True,
+              help="Symbolic BMC in Z3, or breadth-first search over concrete configurations (finite ranges).")
+@click.option("--max-states", type=click.IntRange(1), default=1_000_000, show_default=True,
+              help="With --engine explicit: configurations explored before giving up with 'unknown'.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
-          set_specs: tuple[str, ...], timeout: float | None, fmt: str) -> None:
+          set_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str, max_states: int) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -138,7 +143,16 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         if n not in known:
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
-    results = run_check(project, names or None, bound, ranges, settings, timeout)
+    if engine == "explicit":
+        from tockbmc.explicit.engine import check_explicit
+        from tockbmc.explicit.interpreter import Unbounded
+        try:
+            results = check_explicit(project, names or None, bound, ranges, settings, timeout, max_states)
+        except Unbounded as exc:
+            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
+                                   f"(--range {exc.name}=LO..HI)") from None
+    else:
+        results = run_check(project, names or None, bound, ranges, settings, timeout)
     if fmt == "json":
         click.echo(json.dumps(results_json(results, __version__), indent=2))
     else:
@@ -146,6 +160,39 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         print_results(results, Console(width=width, soft_wrap=True))
     counts = summary_counts(results)
     sys.exit(10 if counts["violated"] else 20 if counts["unknown"] or counts["unsupported"] else 0)
+
+
+@cli.command()
+@click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
+@click.option("--element", default=None, help="The machine, controller or module to run (default: the first module, "
+                                                "else controller, else machine).")
+@click.option("--steps", type=click.IntRange(0), default=30, show_default=True, help="Steps to take.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random choices.")
+@click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI",
+              help="Range of a type or path the environment's values come from (needed for inputs).")
+@click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
+def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int, range_specs: tuple[str, ...],
+             set_specs: tuple[str, ...]) -> None:
+    """Print a random run of an element of the model in PATHS, as a trace."""
+    from tockbmc.explicit.interpreter import NotInterpretable, Unbounded
+    from tockbmc.explicit.simulate import run_random
+    project = _load(paths)
+    ranges = _ranges(range_specs)
+    settings = _settings(set_specs)
+    try:
+        result = run_random(project, element, steps, seed, ranges, settings)
+    except LookupError as exc:
+        raise click.BadParameter(str(exc), param_hint="'--element'") from None
+    except Unbounded as exc:
+        raise click.UsageError(f"simulate needs finite data: give a range for {exc.name} "
+                               f"(--range {exc.name}=LO..HI)") from None
+    except NotInterpretable as exc:
+        click.echo(f"{exc.pos}: unsupported: {exc.what}", err=True)
+        sys.exit(EXIT_MODEL_ERROR)
+    width = None if sys.stdout.isatty() else 160
+    console = Console(width=width, soft_wrap=True)
+    console.print(Text(result.text, style="bold"))
+    print_trace(result, console)
 
 
 def _guarded(command: Callable[[], T]) -> Callable[[], T]:

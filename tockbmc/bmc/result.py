@@ -14,6 +14,8 @@ class TraceStep:
     note: str  # for internal steps: what happened (transition, entry, assignment…)
     states: dict[str, str]  # machine -> active state (innermost) after the step
     changed: dict[str, str]  # variable -> new value
+    channel: tuple = ()  # for an event: its channel as CSP names it, ("EXAX::move", "in"); ("tock",) for tock
+    values: tuple = ()  # for an event: the values it carries, as Python values (for replay)
 
 
 @dataclass(frozen=True)
@@ -38,4 +40,5 @@ class Result:
             "reason": self.reason, "pos": self.pos,
             "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
                        "changed": s.changed} for s in self.trace],
+            **self.extra,
         }

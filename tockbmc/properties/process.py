@@ -338,40 +338,43 @@ class MonitorExtension:
 
         Maps each such state to that trace (event names, `✓` for termination).
         """
-        sem, mon = self.context.sem, self.monitor
         out: dict[int, list[str]] = {}
         for s in range(self.count):
-            todo: list[tuple[Proc, int, list[str]]] = [(self.context.impl.tail, s, [])]
-            seen: set[tuple[Proc, int]] = set()
-            while todo:
-                p, q, trace = todo.pop(0)
-                p = sem.force(p)
-                if (p, q) in seen:
-                    continue
-                seen.add((p, q))
-                if len(seen) > 5000:
-                    raise TooLarge
-                if sem.ticks(p) and not mon.can_tick(q):
-                    out[s] = [*trace, "✓"]
-                    break
-                todo += [(r, q, trace) for r in sem.taus(p)]
-                events = sem.candidates(p, (e for t in mon.states[q] for e in sem.mentions(t)))
-                if sem.stable(p):
-                    events.add(TOCK)
-                else:
-                    events.discard(TOCK)
-                for e in sorted(events, key=repr):
-                    for r in sem.after(p, e):
-                        nxt = mon.after(q, e)
-                        name = _event_text(e)
-                        if nxt == Monitor.DEAD:
-                            out[s] = [*trace, name]
-                            todo = []
-                            break
-                        todo.append((r, nxt, [*trace, name]))
-                    if s in out:
-                        break
+            rest = after_termination(self.context.sem, self.monitor, self.context.impl.tail, s)
+            if rest is not None:
+                out[s] = rest
         return out
+
+
+def after_termination(sem: Semantics, mon: Monitor, tail: Proc, state: int) -> list[str] | None:
+    """A trace of `tail` (what runs once the element has terminated) that the specification, in
+    monitor state `state`, refuses (`✓` for a termination it cannot do); None if there is none."""
+    todo: list[tuple[Proc, int, list[str]]] = [(tail, state, [])]
+    seen: set[tuple[Proc, int]] = set()
+    while todo:
+        p, q, trace = todo.pop(0)
+        p = sem.force(p)
+        if (p, q) in seen:
+            continue
+        seen.add((p, q))
+        if len(seen) > 5000:
+            raise TooLarge
+        if sem.ticks(p) and not mon.can_tick(q):
+            return [*trace, "✓"]
+        todo += [(r, q, trace) for r in sem.taus(p)]
+        events = sem.candidates(p, (e for t in mon.states[q] for e in sem.mentions(t)))
+        if sem.stable(p):
+            events.add(TOCK)
+        else:
+            events.discard(TOCK)
+        for e in sorted(events, key=repr):
+            for r in sem.after(p, e):
+                nxt = mon.after(q, e)
+                name = _event_text(e)
+                if nxt == Monitor.DEAD:
+                    return [*trace, name]
+                todo.append((r, nxt, [*trace, name]))
+    return None
 
 
 def _event_text(e: tuple) -> str:

@@ -33,11 +33,17 @@ def _scope(r: Result) -> str:
 
 def print_results(results: list[Result], console: Console) -> None:
     table = Table(title="tockbmc results", title_justify="left")
-    for col in ("Assertion", "Result", "Time", "Bound", "Trace"):
-        table.add_column(col, justify="right" if col in ("Time", "Bound", "Trace") else "left")
+    explicit = any("states" in r.extra for r in results)  # the paper's "complexity" columns
+    columns = ("Assertion", "Result", "Time", "Bound", "Trace", *(("States", "Transitions") if explicit else ()))
+    for col in columns:
+        table.add_column(col, justify="left" if col in ("Assertion", "Result") else "right")
     for r in results:
-        table.add_row(r.assertion, Text(r.verdict, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
-                      str(r.bound) if r.bound is not None else "–", str(len(r.trace)) if r.trace else "–")
+        row = [r.assertion, Text(r.verdict, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
+               str(r.bound) if r.bound is not None else "–", str(len(r.trace)) if r.trace else "–"]
+        if explicit:
+            row += [f"{r.extra['states']:,}" if "states" in r.extra else "–",
+                    f"{r.extra['transitions']:,}" if "transitions" in r.extra else "–"]
+        table.add_row(*row)
     console.print(table)
     bounded = [r for r in results if r.bound is not None]
     if bounded:

@@ -31,6 +31,40 @@ def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
     return str(v)
 
 
+def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
+    """A value in a model as a Python value: int, Fraction, bool, "Type::LIT", or a dict for a record."""
+    if isinstance(t, ast.RecordType):
+        assert isinstance(value, dict)
+        return {f.name: python_value(value[f.name], model, f.type) for f in t.fields}
+    assert not isinstance(value, dict)
+    v = model.eval(value, model_completion=True)
+    if isinstance(t, ast.EnumType):
+        i = v.as_long()
+        return f"{t.name}::{t.literals[i]}" if 0 <= i < len(t.literals) else i
+    if z3.is_true(v) or z3.is_false(v):
+        return z3.is_true(v)
+    if z3.is_rational_value(v):
+        f = Fraction(v.numerator_as_long(), v.denominator_as_long())
+        return int(f) if f.denominator == 1 and t != ast.REAL else f
+    if z3.is_int_value(v):
+        return v.as_long()
+    return str(v)
+
+
+def initial_choices(system: System, model: z3.ModelRef) -> dict[str, object]:
+    """The values a run starts from that the model leaves open: constants and variables without a value."""
+    out: dict[str, object] = {}
+    for c, comp in enumerate(system.components):
+        for v in (*comp.machine.variables, *comp.machine.interface_variables):
+            value = system.constants[c].get(id(v))
+            if value is not None:
+                out[v.name] = python_value(value, model, v.type)
+    for base, (t, initial, _c) in system.initial.items():
+        if initial is None:
+            out[base] = python_value(system.value(base, t, 0), model, t)
+    return out
+
+
 def value_text(value: Value, model: z3.ModelRef, t: ast.Type) -> str:
     """A value as FDR-style text: records as `(f=v, g=w)`."""
     if isinstance(t, ast.RecordType):
@@ -132,11 +166,13 @@ def decode(system: System, model: z3.ModelRef, depth: int) -> tuple[TraceStep, .
                   for c, comp in enumerate(system.components)}
         changed = _changed(system, model, i, m)
         if m.kind == "tock":
-            steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed))
+            steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed, ("tock",)))
         elif m.kind == "internal":
             steps.append(TraceStep(i + 1, None, "internal", _note(system, m), states, changed))
         else:
             transition = next((e.transition for _, e in m.parts if e.transition), "")
+            channel, _ = system.label(m)
+            values = tuple(python_value(v, model, t) for v, t in system.label_values(m, i))
             steps.append(TraceStep(i + 1, _move_event(system, m, i, model), "event", transition or "",
-                                   states, changed))
+                                   states, changed, channel, values))
     return tuple(steps)

@@ -1,0 +1,17 @@
+"""An explicit-state interpreter of RoboChart models: the second opinion on the symbolic encoding.
+
+It implements `/work/shared/semantics.md` §2 directly on the resolved model (`tockbmc.model.ast`)
+and shares no code with `tockbmc.encodings`, `tockbmc.properties` or `tockbmc.bmc`.
+"""
+
+from tockbmc.explicit.interpreter import (
+    Config,
+    Event,
+    Interpreter,
+    NotInterpretable,
+    Record,
+    Step,
+    Unbounded,
+)
+
+__all__ = ["Config", "Event", "Interpreter", "NotInterpretable", "Record", "Step", "Unbounded"]

@@ -1,0 +1,410 @@
+"""The explicit-state engine: breadth-first search over concrete configurations.
+
+It decides the same assertions as BMC with the independent interpreter
+(`explicit.interpreter`), for finite data ranges only.  The search is by the
+number of visible steps (events and tocks; internal steps cost nothing), so a
+counterexample has as few visible steps as any, and it stops at `bound`
+visible steps or at `max_states` configurations (then the verdict is
+`unknown`).  Specifications of `refines` run as the same monitors BMC uses,
+fed with the interpreter's concrete events.  The number of configurations and
+transitions explored is reported, like FDR's "states" and "transitions".
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable, Hashable, Iterable
+from dataclasses import dataclass
+from fractions import Fraction
+
+from tockbmc.bmc.result import Result, TraceStep
+from tockbmc.encodings.values import Ranges
+from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
+from tockbmc.model import ast
+from tockbmc.model.csp import CspError
+from tockbmc.properties.process import after_termination
+from tockbmc.properties.queries import NotSupported, Query, query
+from tockbmc.properties.spec import EnumValue, Monitor, TooLarge
+
+DEFAULT_MAX_STATES = 1_000_000
+
+
+def ranges_dict(ranges: Ranges) -> dict[str, tuple[Fraction, Fraction]]:
+    return {**{k: (r.low, r.high) for k, r in ranges.by_type.items()},
+            **{k: (r.low, r.high) for k, r in ranges.by_path.items()}}
+
+
+def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
+    """Constant values as Python values (literals and enumeration literals)."""
+    out: dict[str, object] = {}
+    for name, e in settings.items():
+        if isinstance(e, ast.Literal):
+            out[name] = e.value
+        elif isinstance(e, ast.EnumLiteral):
+            out[name] = f"{e.enum.name}::{e.literal}"
+        else:
+            raise NotSupported(f"the value given to constant {name} is not a literal")
+    return out
+
+
+@dataclass
+class _Node:
+    config: Config
+    monitor: int | None
+
+
+class Search:
+    """One assertion's search; `found(node, steps)` says whether a node is a target."""
+
+    def __init__(self, interp: Interpreter, q: Query, bound: int, max_states: int, deadline: float | None):
+        self.interp, self.q, self.bound, self.max_states, self.deadline = interp, q, bound, max_states, deadline
+        self.context = q.context
+        self.monitor: Monitor | None = None
+        if q.context is not None and q.context.spec is not None:
+            try:
+                q.context.sem.alphabet = element_alphabet(q.element)
+                self.monitor = Monitor(q.context.sem, q.context.spec, [])
+            except TooLarge:
+                raise NotSupported("the specification has too many states") from None
+        self.literals = _literals(q)
+        self.transitions = 0
+        self.complete = True  # every configuration within the bound was expanded
+        self.parent: dict[Hashable, tuple[Hashable, Step] | None] = {}
+        self.depth: dict[Hashable, int] = {}
+        self.succ: dict[Hashable, list[tuple[Step, Hashable]]] = {}
+
+    # --- the element in its CSP context
+
+    def steps(self, key: Hashable) -> list[tuple[Step, Hashable]]:
+        if key in self.succ:
+            return self.succ[key]
+        config, mon = key  # type: ignore[misc]
+        out: list[tuple[Step, Hashable]] = []
+        raw = self.interp.steps(config)
+        hidden_possible = False
+        classified = []
+        for s in raw:
+            status = self._status(s)
+            if status == "blocked":
+                continue
+            if status == "hidden" and s.kind == "event":
+                hidden_possible = True
+            classified.append((s, status))
+        for s, status in classified:
+            if s.kind == "tock" and hidden_possible:
+                continue  # hidden events are internal, hence urgent (maximal progress)
+            visible = s.kind in ("event", "tock") and status != "hidden"
+            nxt_mon = mon
+            if visible and self.monitor is not None and mon is not None:
+                nxt_mon = self.monitor.after(mon, self._event(s))
+            kind = s.kind if visible else "internal"
+            out.append((Step(kind, s.event if visible else None, s.target, s.note or _hidden_note(s)),
+                        (s.target, nxt_mon)))
+        self.succ[key] = out
+        self.transitions += len(out)
+        return out
+
+    def _status(self, s: Step) -> str:
+        if self.context is None or s.event is None:
+            return "visible"
+        ch = s.event.channel
+        return self.context.status(ch, len(s.event.values))
+
+    def _event(self, s: Step) -> tuple:
+        assert s.event is not None
+        if s.kind == "tock":
+            return ("tock",)
+        return (*s.event.channel, *(self.literals.get(v, v) if isinstance(v, str) else v for v in s.event.values))
+
+    # --- breadth-first by visible steps
+
+    def run(self, found: Callable[[Hashable, list[tuple[Step, Hashable]]], str | None]) -> tuple[Hashable, str] | None:
+        """The first target node (as few visible steps as possible) and why, or None."""
+        first = None
+        if self.monitor is not None:
+            first = self.monitor.initial
+            for e in self.context.impl.head if self.context is not None else ():
+                first = self.monitor.after(first, e)
+        start = [(c, first) for c in self.interp.initial()]
+        todo: deque[Hashable] = deque()
+        for key in start:
+            if key not in self.depth:
+                self.depth[key] = 0
+                self.parent[key] = None
+                todo.append(key)
+        while todo:
+            if self.deadline is not None and time.monotonic() > self.deadline:
+                raise TimeoutError
+            key = todo.popleft()
+            d = self.depth[key]
+            if key[1] == Monitor.DEAD:  # type: ignore[index]
+                return key, "dead"
+            succ = self.steps(key)
+            why = found(key, succ)
+            if why is not None:
+                return key, why
+            for step, nxt in succ:
+                cost = 0 if step.kind == "internal" else 1
+                if d + cost > self.bound:
+                    self.complete = False
+                    continue
+                if nxt in self.depth and self.depth[nxt] <= d + cost:
+                    continue
+                if len(self.depth) >= self.max_states:
+                    raise MemoryError
+                self.depth[nxt] = d + cost
+                self.parent[nxt] = (key, step)
+                if cost == 0:
+                    todo.appendleft(nxt)
+                else:
+                    todo.append(nxt)
+        return None
+
+    def trace(self, key: Hashable) -> tuple[TraceStep, ...]:
+        path: list[Step] = []
+        cur = self.parent.get(key)
+        while cur is not None:
+            prev, step = cur
+            path.append(step)
+            cur = self.parent.get(prev)
+        path.reverse()
+        out = []
+        for i, s in enumerate(path):
+            states = self.interp.states(s.target)
+            if s.kind == "internal":
+                out.append(TraceStep(i + 1, None, "internal", s.note, states, {}))
+            else:
+                assert s.event is not None
+                out.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values))
+        return tuple(out)
+
+    def cycle(self, edge: Callable[[Step], bool], where: Callable[[Hashable], bool]) -> Hashable | None:
+        """A node (explored, where `where` holds) on a cycle of steps for which `edge` holds."""
+        graph = {k: [n for s, n in succ if edge(s) and n in self.succ] for k, succ in self.succ.items() if where(k)}
+        done: set[Hashable] = set()
+        for root in graph:
+            if root in done:
+                continue
+            path, stack = {root}, [(root, iter(graph[root]))]
+            while stack:
+                node, children = stack[-1]
+                child = next(children, None)
+                if child is None:
+                    stack.pop()
+                    path.discard(node)
+                    done.add(node)
+                elif child in path:
+                    return child
+                elif child not in done and child in graph:
+                    path.add(child)
+                    stack.append((child, iter(graph[child])))
+        return None
+
+
+def _hidden_note(s: Step) -> str:
+    return f"{s.event.name} (hidden)" if s.event is not None else ""
+
+
+def _literals(q: Query) -> dict[str, EnumValue]:
+    if q.context is None:
+        return {}
+    return {v.text: v for v in q.context.sem.evaluator.literals.values()}
+
+
+def check_explicit(project: ast.Project, names: Iterable[str] | None, bound: int, ranges: Ranges,
+                   settings: dict[str, ast.Expr], timeout: float | None,
+                   max_states: int = DEFAULT_MAX_STATES) -> list[Result]:
+    """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range."""
+    wanted = set(names) if names is not None else None
+    return [_check(project, a, bound, ranges, settings, timeout, max_states)
+            for a in project.assertions if wanted is None or a.name in wanted]
+
+
+def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, settings: dict[str, ast.Expr],
+           timeout: float | None, max_states: int) -> Result:
+    start = time.perf_counter()
+    deadline = time.monotonic() + timeout if timeout is not None else None
+    search: Search | None = None
+
+    def result(verdict: str, reason: str, trace: tuple = ()) -> Result:
+        extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
+        return Result(a.name, a.text, verdict, bound if verdict != "unsupported" else None, ranges.describe(),
+                      time.perf_counter() - start, reason, trace=trace, engine="explicit", pos=str(a.pos),
+                      extra=extra)
+
+    try:
+        q = query(project, a)
+        if q.inclusion is not None:
+            raise NotSupported("the explicit engine does not check that a model has every trace of a "
+                               "specification yet")
+        consts = python_settings({**settings, **dict(q.settings),
+                                  **{s.constant: s.value for s in a.settings if s.kind == "constant"}})
+        interp = Interpreter(q.element, ranges_dict(ranges), consts, dict(q.defined))
+        search = Search(interp, q, bound, max_states, deadline)
+        return _decide(a, q, search, result)
+    except NotSupported as exc:
+        return result("unsupported", str(exc))
+    except (NotInterpretable, CspError) as exc:
+        return result("unsupported", f"{exc.what} ({exc.pos})")
+    except TimeoutError:
+        return result("unknown", "timed out")
+    except MemoryError:
+        return result("unknown", f"stopped at the state limit ({max_states} configurations); the search is not "
+                                 "complete")
+
+
+def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:
+    interp = search.interp
+    name = q.element.name
+    scope = ("every configuration reachable at any length was explored" if search.complete
+             else f"for every run of up to {search.bound} visible steps")
+
+    def done(holds_reason: str) -> Result:
+        scope_now = ("every configuration reachable at any length was explored" if search.complete
+                     else f"for every run of up to {search.bound} visible steps")
+        return result("holds", f"{holds_reason}; {scope_now}")
+
+    def internal(succ: list) -> bool:
+        return any(s.kind == "internal" for s, _ in succ)
+
+    def tock(succ: list) -> bool:
+        return any(s.kind == "tock" for s, _ in succ)
+
+    def terminated(key: Hashable) -> bool:
+        return interp.terminated(key[0])  # type: ignore[index]
+
+    kind, negated = a.kind, a.negated
+    if kind == "refines":
+        assert q.context is not None and search.monitor is not None
+        context, monitor = q.context, search.monitor
+        rests: dict[int, list[str] | None] = {}
+
+        def after_end(key: Hashable, succ: list) -> str | None:
+            config, state = key  # type: ignore[misc]
+            if not interp.terminated(config) or state is None:
+                return None
+            if state not in rests:
+                rests[state] = after_termination(context.sem, monitor, context.impl.tail, state)
+            return "after" if rests[state] is not None else None
+
+        hit = search.run(after_end)
+        spec = a.other
+        if hit is not None:
+            verdict = "holds" if negated else "violated"
+            trace = search.trace(hit[0])
+            head = tuple(TraceStep(0, ".".join(str(x) for x in e), "event", "before the model starts", {}, {})
+                         for e in context.impl.head)
+            if hit[1] == "after":
+                rest = rests[hit[0][1]] or []  # type: ignore[index]
+                trace += tuple(TraceStep(len(trace) + 1 + j, e, "tock" if e == "tock" else "event",
+                                         "after the model terminates", {}, {}) for j, e in enumerate(rest))
+                return result(verdict, f"after {name} terminates, the process goes on with {' '.join(rest)}, which "
+                                       f"{spec} cannot do", head + trace)
+            return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
+        if negated:
+            return result("violated" if search.complete else "unknown", f"every trace is a trace of {spec}; {scope}")
+        return done(f"every trace is a trace of {spec}")
+    if q.context is not None and (q.context.impl.head or q.context.impl.continues):
+        raise NotSupported("a process with a prefix or a continuation after termination is checked for "
+                           "refinement only")
+    if kind == "terminates" and not negated:
+        hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
+        if hit is not None:
+            return result("violated", f"{name} has not terminated and refuses every event, tock included",
+                          search.trace(hit[0]))
+        ends = [k for k in search.depth if terminated(k)]
+        if ends:
+            best = min(ends, key=lambda k: search.depth[k])
+            return result("holds", f"no configuration short of termination refuses every event; witness: {name} "
+                                   "has terminated", search.trace(best))
+        if search.complete:
+            return result("violated", f"termination is unreachable ({scope})")
+        return result("unknown", f"termination not found within {search.bound} visible steps")
+    if kind == "terminates":  # does not terminate
+        hit = search.run(lambda key, succ: "terminated" if terminated(key) else None)
+        if hit is not None:
+            return result("violated", f"{name} has terminated", search.trace(hit[0]))
+        return done(f"{name} never terminates")
+    if kind == "timelock-free":
+        hit = search.run(lambda key, succ: "timelock" if not internal(succ) and not tock(succ) else None)
+        if hit is not None:
+            why = f"{name} has terminated, so tock is refused" if terminated(hit[0]) else f"{name} refuses tock here"
+            return result("holds" if negated else "violated", why, search.trace(hit[0]))
+        if negated:
+            return result("violated" if search.complete else "unknown", f"no configuration refuses tock; {scope}")
+        return done("no configuration refuses tock")
+    if kind == "deadlock-free":
+        hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
+        why = f"{name} has not terminated and refuses every event, tock included"
+        if hit is None:  # time only for ever, or divergence, among the explored configurations
+            loop = search.cycle(lambda s: s.kind == "tock",
+                                lambda k: not terminated(k) and all(s.kind == "tock" for s, _ in search.succ[k]))
+            why = f"{name} offers nothing but tock, now and at every later time"
+            if loop is None:
+                loop = search.cycle(lambda s: s.kind == "internal", lambda k: True)
+                why = f"{name} can repeat internal steps for ever (divergence)"
+            hit = (loop, why) if loop is not None else None
+        if hit is not None:
+            return result("holds" if negated else "violated", why, search.trace(hit[0]))
+        if negated:
+            return result("violated" if search.complete else "unknown", f"no deadlock; {scope}")
+        return done("no deadlock")
+    if kind == "reachable":
+        state = a.subject
+
+        def entered(key: Hashable, succ: list) -> str | None:
+            active = interp.states(key[0]).items()  # type: ignore[index]
+            return "entered" if any(_is_state(m, s, state) for m, s in active) else None
+
+        hit = search.run(entered)
+        if hit is not None:
+            return result("violated" if negated else "holds", f"state {state} is entered", search.trace(hit[0]))
+        if negated:
+            return done(f"state {state} is never entered")
+        if search.complete:
+            return result("violated", f"state {state} is never entered ({scope})")
+        return result("unknown", f"state {state} not entered within {search.bound} visible steps")
+    raise NotSupported(f"'{kind}' assertions are not supported by the explicit engine")
+
+
+def _is_state(machine: str, active: str, state: str) -> bool:
+    """Whether machine `machine`, innermost in `active`, is in the state an assertion names: the
+    state's path or one of its ancestors', maybe qualified by names ending with the machine's."""
+    parts = active.split("::")
+    for i in range(1, len(parts) + 1):
+        path = "::".join(parts[:i])
+        if state == path:
+            return True
+        if state.endswith("::" + path):
+            qualifier = state[: -len(path) - 2].rsplit("::", 1)[-1]
+            if qualifier == machine.rsplit("::", 1)[-1]:
+                return True
+    return False
+
+
+def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) -> list[tuple[tuple, int]]:
+    """Channels the element might show, over-approximated (so specifications can be probed with them):
+    every event of the element and of its machines in both directions, its calls and `terminate`."""
+    name = element.name
+    machines: list[ast.StateMachine] = []
+    events: list[tuple[str, ast.Event]] = []
+    if isinstance(element, ast.StateMachine):
+        machines = [element]
+    elif isinstance(element, ast.Controller):
+        machines = [m.machine for m in element.machines]
+        events += [(name, e) for e in element.events]
+    else:
+        for ci in element.controllers:
+            machines += [m.machine for m in ci.controller.machines]
+            events += [(ci.controller.name, e) for e in ci.controller.events]
+        if element.platform is not None:
+            events += [(name, e) for e in element.platform.events]
+    out: list[tuple[tuple, int]] = [((f"{name}::terminate",), 0)]
+    for m in machines:
+        events += [(m.name, e) for e in m.events]
+        out += [(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),), len(op.parameters)) for op in m.operations]
+    for owner, e in events:
+        channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
+        out += [((channel, d), int(e.type is not None)) for d in ("in", "out")]
+    return list(dict.fromkeys(out))

@@ -1,0 +1,1486 @@
+"""An explicit-state interpreter of RoboChart machines, controllers and modules.
+
+This is an independent implementation of `/work/shared/semantics.md` §1–§2 (the trace alphabet and
+the step rules), written from that text and from the user-visible choices recorded in DESIGN.md
+("Resolution choices", "Checking: encoding choices"). It imports nothing from `tockbmc.encodings`,
+`tockbmc.properties` or `tockbmc.bmc`, so that it can cross-check them.
+
+A `Config` is one configuration: per machine a stack of frames (the machine itself, then the
+defined operations it is running), one value per slot (variables, constants, clocks,
+`sinceEntry` counters, trigger-deadline counters, asynchronous buffers), and whether the element
+has terminated. `Interpreter.steps` lists every step from a configuration: internal steps, visible
+events (named exactly as tockbmc prints them) and `tock`.
+
+Choices made where semantics.md is silent (and DESIGN.md too, or where it is only implied):
+
+* **Granularity of internal steps.** Each of these is one internal step: taking a transition
+  (trigger, condition, clock resets, and the binding of `e?x` together), an assignment, an `if`
+  (the condition is read atomically), the choice of `n` for `wait`, `#C`, the call of a defined
+  operation (arguments bound to parameters), a synchronous machine-to-machine communication, a
+  write into or a read from an asynchronous buffer. Pure bookkeeping is not a step: flattening
+  sequences, `skip`, entering/leaving a state without entry/exit action, arriving at a node,
+  starting/ending a statement deadline, the end of a `wait`, returning from an operation.
+  Visible traces do not depend on this; internal-step counts do.
+* **Entry into states.** An entry action runs before the state is stable; the transitions of a
+  state are candidates only once it is stable (or while its `during` runs). A transition from an
+  ancestor exits the innermost active state first. The exited states are the active states up to
+  (excluding) the deepest common proper ancestor of source and target, so a self-transition exits
+  and re-enters its state, and a transition into a nested state enters every state on the way
+  (their entry actions outside-in, without their initial transitions).
+* **`during` actions.** On becoming stable in a leaf state (or an inner final state), the machine
+  runs, in sequence, the `during` actions of the states entered by the run of transitions that
+  led there (outermost first), restricted to states still active; any transition of an active
+  state abandons them. So the during of a composite is not restarted by a transition between its
+  children (DESIGN.md encodes only the case where this does not matter).
+* **`else`.** `condition else` holds when no other transition from the same node that has no
+  input trigger (`e?x`) has a true condition (an absent condition is true).
+* **Triggers.** `e?x` is an input binding `x`; `e.v` an input of exactly `v`; `e!v` an output of
+  `v` (as tockbmc does); a plain `e` on a typed event accepts any value of its range and binds
+  nothing.
+* **`nat`.** A step that would store a negative value in a `nat` place (a variable or one of its
+  record fields) is not possible: `nat` values are never negative. A machine whose next
+  statement is such an assignment is stuck there (it lets time pass, like a junction with no
+  true condition).
+* **Display.** `states` gives the innermost active node's path, `taking t` while a transition's
+  exit actions and action run, `terminated` after `terminate`, and `M / op(): node` inside a
+  defined operation. `Unbounded.name` is the type's range name (`core_int`); `.path` the path.
+* **Ranges.** A path range (`EXAX::move.time`, `Ctrl::e`, `M::x`) wins over the type's range.
+  `nat` uses `core_nat`, else `core_int` cut at 0. `real` uses `core_real`, and a bounded real
+  range offers only its integer values (FDR's reals are integers); pass exact values through
+  `inputs`/`choices` to try others. A given type `T` (values opaque) uses a range named `T`, its
+  values being integers.
+* **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
+  division by zero is `NotInterpretable`. `/` on reals is exact.
+* **Functions.** `postcondition result == e` defines `f` inside its preconditions (a call outside
+  them is not interpretable: any value is possible);
+  calling any other function is `NotInterpretable`.
+* **Operation-local variables** without an initial value take every value of their range at each
+  call (one internal step per value).
+* **Trigger deadlines** `<{d}`: a transition with a deadline is armed when its frame is stable (or
+  running a during), its source is active, and its condition holds (for `e?x`, for some value of
+  the range). At a `tock`, an armed transition whose counter has reached `d` refuses it, otherwise
+  its counter grows by one; a transition leaving its source (a self-transition too) restarts it;
+  after every step, the counter of a transition that is not armed is
+  0 again.
+* **Statement deadlines** `S <{d}`: a counter per deadline, decremented by every `tock`; a counter
+  at 0 refuses `tock`. Abandoning a `during` drops its deadlines.
+* **Names.** A machine is displayed (in `states`/`variables` and for its unconnected events,
+  `M::e`) under its machine name, or under its instance name when two instances share a machine.
+  A controller's event left unconnected by the module stays visible under the controller's name.
+  Values print as tockbmc prints them: records `(f=v, g=w)`, enumeration literals `Type::LIT`,
+  booleans `true`/`false`, reals as integers when whole, else as a decimal when exact, else `p/q`.
+* **Networks.** The element terminates with its first machine's `terminate`. A machine connected
+  to itself synchronously, one-to-many connections, bidirectional connections and two buffers in
+  series are `NotInterpretable`.
+* **Clocks** saturate when that is unobservable: if every read of a clock (or `sinceEntry`) is a
+  comparison with a literal, it stops growing one above the largest literal (a clock never read
+  stays 0). Otherwise it grows without bound, and a model has infinitely many configurations; a
+  search over them must bound its depth.
+
+`NotInterpretable`: strings, sets and sequences (anything the resolver keeps but this interpreter
+does not evaluate), uninterpreted functions, record literals omitting fields, probabilistic
+junctions, recursive operations, an output without a value on a typed event, division by zero,
+reading a variable that has no value, and the network shapes above.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+from collections import defaultdict
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any, NamedTuple
+
+from tockbmc.model import ast
+
+# ----------------------------------------------------------------------------- public values
+
+
+class Unbounded(Exception):
+    """A value must be chosen from a type or path with no finite range.
+
+    `name` is the range to give (`core_int`, `core_nat`, `core_real` or a model type's name);
+    `path` is the path that needed it (`EXAX::move.time`, `EXAX.n_waypoints`), which may be
+    given as a range too.
+    """
+
+    def __init__(self, name: str, path: str | None = None) -> None:
+        where = f" (for {path})" if path else ""
+        super().__init__(f"no finite range for {name}{where}: give a range for {name!r}")
+        self.name = name
+        self.path = path
+
+
+class NotInterpretable(Exception):
+    """A construct the interpreter does not handle, at `pos`."""
+
+    def __init__(self, pos: ast.Pos | None, what: str) -> None:
+        super().__init__(f"{pos}: not interpretable: {what}" if pos else f"not interpretable: {what}")
+        self.pos = pos
+        self.what = what
+
+
+class Record(dict):
+    """A record value: a read-only, hashable dict from field names to values."""
+
+    __slots__ = ()
+
+    def __hash__(self) -> int:  # type: ignore[override]
+        return hash(tuple(sorted(self.items())))
+
+    def _readonly(self, *args: Any, **kwargs: Any) -> Any:
+        raise TypeError("a record value is immutable")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = _readonly  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return "Record(" + dict.__repr__(self) + ")"
+
+    def with_field(self, name: str, value: object) -> Record:
+        d = dict(self)
+        d[name] = value
+        return Record(d)
+
+
+@dataclass(frozen=True)
+class Event:
+    name: str
+    channel: tuple
+    values: tuple
+
+
+@dataclass(frozen=True)
+class Step:
+    kind: str  # "internal" | "event" | "tock"
+    event: Event | None
+    target: Config
+    note: str = ""
+
+
+TOCK = Event("tock", ("tock",), ())
+
+
+class Frame(NamedTuple):
+    """One activation: the machine, or a defined operation it runs.
+
+    `node` is the innermost active node (None between leaving and entering at top level);
+    `cont` the instructions still to run; `intr` whether `cont` is a `during` (transitions may
+    abandon it); `dls` the statement-deadline counters; `pend` the states whose `during` starts
+    once a leaf is stable; `via` the transition being taken.
+    """
+
+    beh: int
+    node: str | None
+    cont: tuple
+    intr: bool
+    dls: tuple
+    pend: tuple
+    via: str | None
+
+
+class Config:
+    """A configuration: hashable and immutable; equal configurations compare equal."""
+
+    __slots__ = ("machines", "store", "done", "_hash")
+
+    def __init__(self, machines: tuple, store: tuple, done: bool) -> None:
+        object.__setattr__(self, "machines", machines)
+        object.__setattr__(self, "store", store)
+        object.__setattr__(self, "done", done)
+        object.__setattr__(self, "_hash", hash((machines, store, done)))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Config is immutable")
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Config) and self._hash == other._hash and self.done == other.done
+                and self.store == other.store and self.machines == other.machines)
+
+    def __repr__(self) -> str:
+        return f"Config(machines={self.machines!r}, store={self.store!r}, done={self.done!r})"
+
+
+# ----------------------------------------------------------------------------- value helpers
+
+
+def value_text(t: ast.Type | None, v: object) -> str:
+    """FDR-style text of a value, as tockbmc prints it."""
+    if isinstance(v, dict):
+        fields = [f.name for f in t.fields] if isinstance(t, ast.RecordType) else list(v)
+        ftype = (lambda n: t.field_type(n)) if isinstance(t, ast.RecordType) else (lambda n: None)
+        return "(" + ", ".join(f"{n}={value_text(ftype(n), v[n])}" for n in fields) + ")"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, Fraction):
+        if v.denominator == 1:
+            return str(v.numerator)
+        return str(float(v)) if Fraction(float(v)) == v else str(v)
+    return str(v)
+
+
+def _ediv(a: int, b: int) -> int:
+    return a // b if b > 0 else -(a // -b)
+
+
+def _coerce(t: ast.Type | None, v: object) -> object:
+    """`v` as a value of type `t`: integers in real places become Fractions; dicts become Records."""
+    if t == ast.REAL and isinstance(v, int) and not isinstance(v, bool):
+        return Fraction(v)
+    if isinstance(t, ast.RecordType) and isinstance(v, dict):
+        return Record({f.name: _coerce(f.type, v[f.name]) for f in t.fields if f.name in v})
+    if t in (ast.INT, ast.NAT) and isinstance(v, Fraction) and v.denominator == 1:
+        return int(v)
+    return v
+
+
+def _fits(t: ast.Type | None, v: object) -> bool:
+    """Whether `v` may be stored in a place of type `t` (nat values are never negative)."""
+    if t == ast.NAT:
+        return not (isinstance(v, (int, Fraction)) and not isinstance(v, bool) and v < 0)
+    if isinstance(t, ast.RecordType) and isinstance(v, dict):
+        return all(_fits(f.type, v.get(f.name)) for f in t.fields)
+    return True
+
+
+def _to_range(r: object) -> tuple[Fraction, Fraction]:
+    try:
+        lo, hi = r  # type: ignore[misc]
+    except (TypeError, ValueError):
+        if dataclasses.is_dataclass(r):
+            lo, hi = (getattr(r, f.name) for f in dataclasses.fields(r)[:2])
+        else:
+            for a, b in (("low", "high"), ("lo", "hi"), ("lower", "upper"), ("min", "max")):
+                if hasattr(r, a) and hasattr(r, b):
+                    lo, hi = getattr(r, a), getattr(r, b)
+                    break
+            else:
+                raise TypeError(f"not a range: {r!r}") from None
+    return Fraction(lo), Fraction(hi)
+
+
+# ----------------------------------------------------------------------------- static structure
+
+
+class _Beh:
+    """A machine's or defined operation's graph, indexed."""
+
+    def __init__(self, b: ast.Behaviour, is_op: bool) -> None:
+        self.b = b
+        self.is_op = is_op
+        self.nodes = {n.path: n for n in b.nodes}
+        self.out: dict[str, list[ast.Transition]] = defaultdict(list)
+        for t in b.transitions:
+            self.out[t.source].append(t)
+        self.initial: dict[str | None, str] = {}
+        for n in b.nodes:
+            if n.kind == "initial":
+                self.initial[n.parent] = n.path
+            if n.kind == "probabilistic":
+                raise NotInterpretable(n.pos, "probabilistic junctions")
+        self.deadlines = [t for t in b.transitions if t.deadline is not None]
+        self._cands: dict[str, list[ast.Transition]] = {}
+        self._paths: dict[tuple[str, str, str], tuple[tuple[str, ...], tuple[str, ...]]] = {}
+
+    def ancestors(self, path: str | None) -> list[str]:
+        """`path` and its ancestors, innermost first."""
+        out = []
+        while path is not None:
+            out.append(path)
+            path = self.nodes[path].parent
+        return out
+
+    def candidates(self, path: str) -> list[ast.Transition]:
+        """Transitions of the node and (for a state) of all its ancestors."""
+        c = self._cands.get(path)
+        if c is None:
+            node = self.nodes[path]
+            if node.kind in ("initial", "junction"):
+                c = list(self.out.get(path, ()))
+            else:
+                c = [t for p in self.ancestors(path) for t in self.out.get(p, ())]
+            self._cands[path] = c
+        return c
+
+    def path(self, leaf: str, source: str, target: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """The nodes exited (innermost first) and entered (outermost first) by a transition."""
+        key = (leaf, source, target)
+        r = self._paths.get(key)
+        if r is None:
+            anc_s = self.ancestors(self.nodes[source].parent)
+            anc_g = set(self.ancestors(self.nodes[target].parent))
+            lca = next((a for a in anc_s if a in anc_g), None)
+            exits = []
+            p: str | None = leaf
+            while p is not None and p != lca:
+                exits.append(p)
+                p = self.nodes[p].parent
+            enters = []
+            p = target
+            while p is not None and p != lca:
+                enters.append(p)
+                p = self.nodes[p].parent
+            r = (tuple(exits), tuple(reversed(enters)))
+            self._paths[key] = r
+        return r
+
+
+class _Inst(NamedTuple):
+    name: str  # display name
+    local: str  # instance name in its controller
+    machine: ast.StateMachine
+    beh: int
+    defined: dict
+
+
+class _Link:
+    """A connection: `src`/`dst` are (machine index, event name), or None for the environment."""
+
+    def __init__(self, asynchronous: bool, src: tuple | None, dst: tuple | None, vis: str | None,
+                 type_: ast.Type | None, pos: ast.Pos | None) -> None:
+        self.asynchronous = asynchronous
+        self.src = src
+        self.dst = dst
+        self.vis = vis
+        self.type = type_
+        self.pos = pos
+        self.slot: int | None = None
+
+
+class _Slot(NamedTuple):
+    key: tuple
+    kind: str  # var | const | oplocal | clock | since | tdl | buf
+    var: ast.Variable | None
+    display: str
+    inst: int | None
+
+
+class _Ctx:
+    """A configuration's store being changed: reads see the writes made so far."""
+
+    __slots__ = ("base", "upd", "i", "bind")
+
+    def __init__(self, base: tuple, i: int, upd: dict | None = None) -> None:
+        self.base = base
+        self.upd = dict(upd) if upd else {}
+        self.i = i
+        self.bind: dict | None = None
+
+    def get(self, s: int) -> object:
+        u = self.upd
+        return u[s] if s in u else self.base[s]
+
+    def set(self, s: int, v: object) -> None:
+        self.upd[s] = v
+
+
+# ----------------------------------------------------------------------------- the interpreter
+
+
+class Interpreter:
+    """The steps of one machine, controller or module (semantics.md §2)."""
+
+    def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
+                 ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
+                 settings: dict[str, object] | None = None,
+                 defined: dict[str, ast.OperationDef] | None = None) -> None:
+        self.element = element
+        self.ename = element.name
+        self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
+        self.settings = dict(settings or {})
+        self.defined = dict(defined or {})
+        self.stmts: list[ast.Stmt] = []
+        self._sid: dict[int, int] = {}
+        self.behs: list[_Beh] = []
+        self._beh_of: dict[int, int] = {}
+        self.insts: list[_Inst] = []
+        self.links: list[_Link] = []
+        self.out_link: dict[tuple, _Link] = {}
+        self.in_links: dict[tuple, list[_Link]] = defaultdict(list)
+        self.slots: list[_Slot] = []
+        self._slot_of: dict[tuple, int] = {}
+        self._domains: dict[tuple, list] = {}
+        self._shared_owners: set[str] = set()
+        self.network = not isinstance(element, ast.StateMachine)
+        self._shared_vars: list[ast.Variable] = []
+
+        if isinstance(element, ast.StateMachine):
+            self._add_inst(element, element.name, self.defined)
+        elif isinstance(element, ast.Controller):
+            self._shared_owners.add(element.qname)
+            self._shared_vars.extend(element.variables)
+            b_in, b_out = self._flatten_controller(element, "")
+            for ename, entries in b_in.items():
+                self._boundary_env(entries, f"{self.ename}::{ename}", True)
+            for ename, entries in b_out.items():
+                self._boundary_env(entries, f"{self.ename}::{ename}", False)
+        elif isinstance(element, ast.Module):
+            self._flatten_module(element)
+        else:
+            raise NotInterpretable(getattr(element, "pos", None), f"{type(element).__name__} as the element")
+
+        # display names: the machine's name unless two instances share it
+        counts: dict[str, int] = defaultdict(int)
+        for inst in self.insts:
+            counts[inst.machine.name] += 1
+        self.insts = [inst._replace(name=inst.machine.name if counts[inst.machine.name] == 1 else inst.local)
+                      for inst in self.insts]
+        for v in self._shared_vars:
+            self._reg(("shared", v.name), "const" if v.constant else "var", v, v.name, None)
+        for i, inst in enumerate(self.insts):
+            self._scan(i, inst.beh, [])
+        for n, link in enumerate(self.links):
+            if link.asynchronous:
+                link.slot = self._reg(("buf", n), "buf", None, f"buffer {n}", None)
+        self._tdl: dict[int, list[tuple[int, int, ast.Transition]]] = defaultdict(list)
+        for key, s in self._slot_of.items():
+            if key[0] == "tdl":
+                _, i, bi, tname = key
+                t = next(t for t in self.behs[bi].deadlines if t.name == tname)
+                self._tdl[i].append((s, bi, t))
+        self._timed_slots = [s for s, info in enumerate(self.slots) if info.kind in ("clock", "since")]
+        self._caps = self._clock_caps()
+
+    # ------------------------------------------------------------------ structure
+
+    def _beh(self, b: ast.Behaviour, is_op: bool) -> int:
+        k = id(b)
+        if k not in self._beh_of:
+            self._beh_of[k] = len(self.behs)
+            self.behs.append(_Beh(b, is_op))
+        return self._beh_of[k]
+
+    def _add_inst(self, m: ast.StateMachine, local: str, defined: dict) -> int:
+        self.insts.append(_Inst(m.name, local, m, self._beh(m, False), defined))
+        return len(self.insts) - 1
+
+    def _link(self, asynchronous: bool, src: tuple | None, dst: tuple | None, vis: str | None,
+              type_: ast.Type | None, pos: ast.Pos | None) -> None:
+        if src is not None and dst is not None and src[0] == dst[0] and not asynchronous:
+            raise NotInterpretable(pos, "a synchronous connection of a machine with itself")
+        link = _Link(asynchronous, src, dst, vis, type_, pos)
+        if src is not None:
+            if src in self.out_link:
+                raise NotInterpretable(pos, "one-to-many connections")
+            self.out_link[src] = link
+        if dst is not None:
+            self.in_links[dst].append(link)
+        self.links.append(link)
+
+    def _flatten_controller(self, ctrl: ast.Controller, prefix: str) -> tuple[dict, dict]:
+        defined = dict(self.defined)
+        for oi in ctrl.operations:
+            defined[oi.operation.name] = oi.operation
+            defined[oi.name] = oi.operation
+        local: dict[str, int] = {}
+        for mi in ctrl.machines:
+            local[mi.name] = self._add_inst(mi.machine, prefix + mi.name, defined)
+        b_in: dict[str, list] = defaultdict(list)
+        b_out: dict[str, list] = defaultdict(list)
+        for c in ctrl.connections:
+            if c.bidirectional:
+                raise NotInterpretable(c.pos, "bidirectional connections")
+            if c.source in local and c.target in local:
+                self._link(c.asynchronous, (local[c.source], c.source_event.name),
+                           (local[c.target], c.target_event.name), None, c.target_event.type, c.pos)
+            elif c.source == ctrl.name and c.target in local:
+                b_in[c.source_event.name].append((local[c.target], c.target_event.name, c.asynchronous, c))
+            elif c.source in local and c.target == ctrl.name:
+                b_out[c.target_event.name].append((local[c.source], c.source_event.name, c.asynchronous, c))
+            else:
+                raise NotInterpretable(c.pos, f"connection from {c.source} to {c.target}")
+        return b_in, b_out
+
+    def _boundary_env(self, entries: list, vis: str, inbound: bool, outer_async: bool = False,
+                      pos: ast.Pos | None = None) -> None:
+        if inbound and len(entries) > 1:
+            raise NotInterpretable(entries[1][3].pos, "one-to-many connections")
+        for i, port, a, c in entries:
+            if a and outer_async:
+                raise NotInterpretable(pos or c.pos, "two buffers in series")
+            t = c.target_event.type if inbound else c.source_event.type
+            if inbound:
+                self._link(a or outer_async, None, (i, port), vis, t, pos or c.pos)
+            else:
+                self._link(a or outer_async, (i, port), None, vis, t, pos or c.pos)
+
+    def _flatten_module(self, mod: ast.Module) -> None:
+        pname = mod.platform_name
+        if mod.platform is not None:
+            self._shared_owners.add(mod.platform.qname)
+            self._shared_vars.extend(mod.platform.variables)
+        cinfo: dict[str, tuple] = {}
+        for ci in mod.controllers:
+            self._shared_owners.add(ci.controller.qname)
+            self._shared_vars.extend(ci.controller.variables)
+            b_in, b_out = self._flatten_controller(ci.controller, ci.name + ".")
+            cinfo[ci.name] = (ci.controller, b_in, b_out)
+        used: set[tuple] = set()
+        for c in mod.connections:
+            if c.bidirectional:
+                raise NotInterpretable(c.pos, "bidirectional connections")
+            if c.source == pname and c.target in cinfo:
+                used.add((c.target, "in", c.target_event.name))
+                entries = cinfo[c.target][1].get(c.target_event.name, [])
+                self._boundary_env(entries, f"{self.ename}::{c.source_event.name}", True, c.asynchronous, c.pos)
+            elif c.source in cinfo and c.target == pname:
+                used.add((c.source, "out", c.source_event.name))
+                entries = cinfo[c.source][2].get(c.source_event.name, [])
+                self._boundary_env(entries, f"{self.ename}::{c.target_event.name}", False, c.asynchronous, c.pos)
+            elif c.source in cinfo and c.target in cinfo:
+                used.add((c.source, "out", c.source_event.name))
+                used.add((c.target, "in", c.target_event.name))
+                outs = cinfo[c.source][2].get(c.source_event.name, [])
+                ins = cinfo[c.target][1].get(c.target_event.name, [])
+                if len(ins) > 1:
+                    raise NotInterpretable(c.pos, "one-to-many connections")
+                for i, p, a, _ in outs:
+                    for j, q, b, _ in ins:
+                        if [a, b, c.asynchronous].count(True) > 1:
+                            raise NotInterpretable(c.pos, "two buffers in series")
+                        self._link(a or b or c.asynchronous, (i, p), (j, q), None, c.target_event.type, c.pos)
+            else:
+                raise NotInterpretable(c.pos, f"connection from {c.source} to {c.target}")
+        for cname, (ctrl, b_in, b_out) in cinfo.items():
+            for ename, entries in b_in.items():
+                if (cname, "in", ename) not in used:
+                    self._boundary_env(entries, f"{ctrl.name}::{ename}", True)
+            for ename, entries in b_out.items():
+                if (cname, "out", ename) not in used:
+                    self._boundary_env(entries, f"{ctrl.name}::{ename}", False)
+
+    def _sid_of(self, s: ast.Stmt) -> int:
+        k = id(s)
+        n = self._sid.get(k)
+        if n is None:
+            n = self._sid[k] = len(self.stmts)
+            self.stmts.append(s)
+        return n
+
+    def _reg(self, key: tuple, kind: str, var: ast.Variable | None, display: str, inst: int | None) -> int:
+        s = self._slot_of.get(key)
+        if s is None:
+            s = self._slot_of[key] = len(self.slots)
+            self.slots.append(_Slot(key, kind, var, display, inst))
+        return s
+
+    def _vkey(self, i: int, var: ast.Variable) -> tuple:
+        if var.kind == "interface" or var.owner in self._shared_owners:
+            return ("shared", var.name) if self.network else ("v", i, "#iface", var.name)
+        return ("v", i, var.owner, var.name)
+
+    def _slot(self, i: int, var: ast.Variable) -> int:
+        s = self._slot_of.get(self._vkey(i, var))
+        if s is None:
+            raise NotInterpretable(var.pos, f"variable {var.name} is not one of the machine's")
+        return s
+
+    def _reg_var(self, i: int, var: ast.Variable, op: ast.OperationDef | None) -> None:
+        key = self._vkey(i, var)
+        inst = self.insts[i].name
+        if key[0] == "shared":
+            display = var.name
+        elif op is not None and var.owner == op.qname:
+            self._reg(key, "oplocal", var, f"{inst}.{op.name}().{var.name}", i)
+            return
+        else:
+            display = f"{inst}.{var.name}"
+        self._reg(key, "const" if var.constant else "var", var, display, i)
+
+    def _resolve_call(self, i: int, st: ast.OperationCall) -> ast.OperationDef | None:
+        """The defined operation a call runs, or None for a platform operation."""
+        op = st.operation
+        if isinstance(op, ast.OperationDef):
+            return None if op.terminates or not op.nodes else op
+        d = self.insts[i].defined.get(op.name)
+        if d is not None and not d.terminates and d.nodes:
+            return d
+        return None
+
+    def _scan(self, i: int, bi: int, stack: list[int]) -> None:
+        beh = self.behs[bi]
+        b = beh.b
+        op = b if isinstance(b, ast.OperationDef) else None
+        for v in b.variables:
+            self._reg_var(i, v, op)
+        if op is not None:
+            for v in op.parameters:
+                self._reg_var(i, v, op)
+        for v in b.interface_variables:
+            self._reg_var(i, v, op)
+        inst = self.insts[i].name
+        for c in b.clocks:
+            self._reg(("clk", i, c.name), "clock", None, f"{inst}.{c.name}", i)
+        stmts: list[ast.Stmt] = []
+        exprs: list[object] = []
+        for n in b.nodes:
+            for a in (n.entry, n.during, n.exit):
+                stmts.extend(ast.statements(a))
+        for t in b.transitions:
+            stmts.extend(ast.statements(t.action))
+            exprs.extend(x for x in (t.condition, t.deadline) if x is not None)
+            if t.trigger is not None:
+                if t.trigger.value is not None:
+                    exprs.append(t.trigger.value)
+                if t.trigger.variable is not None:
+                    self._reg_var(i, t.trigger.variable, op)
+            for c in t.clock_resets:
+                self._reg(("clk", i, c.name), "clock", None, f"{inst}.{c.name}", i)
+            if t.deadline is not None:
+                self._reg(("tdl", i, bi, t.name), "tdl", None, f"{inst}: deadline of {t.name}", i)
+        exprs.extend(stmts)
+        for e in ast.subexpressions(tuple(exprs)):
+            if isinstance(e, ast.VarRef):
+                self._reg_var(i, e.variable, op)
+            elif isinstance(e, ast.Since):
+                self._reg(("clk", i, e.clock.name), "clock", None, f"{inst}.{e.clock.name}", i)
+            elif isinstance(e, ast.SinceEntry):
+                self._reg(("since", i, bi, e.state), "since", None, f"{inst}.sinceEntry({e.state})", i)
+        for st in stmts:
+            self._sid_of(st)
+            if isinstance(st, ast.Assign):
+                self._reg_var(i, st.variable, op)
+            elif isinstance(st, ast.Receive) and st.variable is not None:
+                self._reg_var(i, st.variable, op)
+            elif isinstance(st, ast.ClockReset):
+                self._reg(("clk", i, st.clock.name), "clock", None, f"{inst}.{st.clock.name}", i)
+            elif isinstance(st, ast.OperationCall):
+                d = self._resolve_call(i, st)
+                if d is not None:
+                    di = self._beh(d, True)
+                    if di in stack or di == bi:
+                        raise NotInterpretable(st.pos, f"recursive operation {d.name}")
+                    self._scan(i, di, [*stack, bi])
+
+    def _clock_caps(self) -> dict[int, int]:
+        """Per clock (and `sinceEntry`) slot, a value beyond which it need not grow.
+
+        When every read of a clock is a comparison with a literal, all values above the largest
+        literal behave alike, so the clock saturates at that literal + 1 (a clock never read stays
+        0). Any other read (`x = since(C)`, arithmetic on it) leaves the clock unbounded.
+        """
+        limits: dict[int, int | None] = {s: 0 for s in self._timed_slots}
+        comparisons = ("<", "<=", ">", ">=", "==", "!=")
+
+        def clock_slot(e: ast.Expr, i: int, bi: int) -> int | None:
+            if isinstance(e, ast.Since):
+                return self._slot_of.get(("clk", i, e.clock.name))
+            if isinstance(e, ast.SinceEntry):
+                return self._slot_of.get(("since", i, bi, e.state))
+            return None
+
+        def literal(e: ast.Expr) -> Fraction | None:
+            if isinstance(e, ast.Literal) and isinstance(e.value, (int, Fraction)) and not isinstance(e.value, bool):
+                return Fraction(e.value)
+            if isinstance(e, ast.Unary) and e.op == "-":
+                v = literal(e.operand)
+                return None if v is None else -v
+            return None
+
+        def walk(x: object, i: int, bi: int) -> None:
+            stack = [x]
+            while stack:
+                item = stack.pop()
+                if isinstance(item, tuple):
+                    stack.extend(item)
+                    continue
+                if not isinstance(item, (ast.Expr, ast.Stmt)):
+                    continue
+                if isinstance(item, ast.Binary) and item.op in comparisons:
+                    for a, b in ((item.left, item.right), (item.right, item.left)):
+                        s = clock_slot(a, i, bi)
+                        lit = literal(b)
+                        if s is not None and lit is not None:
+                            if limits.get(s) is not None:
+                                limits[s] = max(limits[s] or 0, math.floor(lit) + 1)  # type: ignore[type-var]
+                            break
+                    else:
+                        stack.extend((item.left, item.right))
+                    continue
+                s = clock_slot(item, i, bi) if isinstance(item, ast.Expr) else None
+                if s is not None:
+                    limits[s] = None
+                    continue
+                stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
+
+        for i, inst in enumerate(self.insts):
+            todo = [inst.beh]
+            done: set[int] = set()
+            while todo:
+                bi = todo.pop()
+                if bi in done:
+                    continue
+                done.add(bi)
+                b = self.behs[bi].b
+                for n in b.nodes:
+                    walk((n.entry, n.during, n.exit), i, bi)
+                for t in b.transitions:
+                    walk((t.condition, t.deadline, t.action, t.trigger.value if t.trigger else None), i, bi)
+                    for st in ast.statements(t.action):
+                        if isinstance(st, ast.OperationCall):
+                            d = self._resolve_call(i, st)
+                            if d is not None:
+                                todo.append(self._beh(d, True))
+                for n in b.nodes:
+                    for st in (*ast.statements(n.entry), *ast.statements(n.during), *ast.statements(n.exit)):
+                        if isinstance(st, ast.OperationCall):
+                            d = self._resolve_call(i, st)
+                            if d is not None:
+                                todo.append(self._beh(d, True))
+        return {s: v for s, v in limits.items() if v is not None}
+
+    # ------------------------------------------------------------------ data
+
+    def _type_range(self, t: ast.Type) -> tuple[str, tuple[Fraction, Fraction] | None]:
+        if t == ast.INT:
+            return "core_int", self.ranges.get("core_int")
+        if t == ast.NAT:
+            r = self.ranges.get("core_nat")
+            if r is None and "core_int" in self.ranges:
+                lo, hi = self.ranges["core_int"]
+                r = (max(lo, Fraction(0)), hi)
+            return "core_nat", r
+        if t == ast.REAL:
+            return "core_real", self.ranges.get("core_real")
+        if isinstance(t, ast.GivenType):
+            return t.name, self.ranges.get(t.name, self.ranges.get(t.qname))
+        raise NotInterpretable(None, f"values of type {t}")
+
+    def domain(self, t: ast.Type | None, paths: tuple[str, ...] = ()) -> list:
+        """Every value of `t` within the ranges (`paths` are the range paths to try first)."""
+        key = (t, paths)
+        d = self._domains.get(key)
+        if d is not None:
+            return d
+        if t is None:
+            d = [None]
+        elif t == ast.BOOLEAN:
+            d = [False, True]
+        elif isinstance(t, ast.EnumType):
+            d = [f"{t.name}::{lit}" for lit in t.literals]
+        elif isinstance(t, ast.RecordType):
+            parts = [self.domain(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
+            d = [Record(zip([f.name for f in t.fields], combo, strict=True)) for combo in itertools.product(*parts)]
+        elif t == ast.STRING or not isinstance(t, (ast.PrimitiveType, ast.GivenType)):
+            raise NotInterpretable(None, f"values of type {t}")
+        else:
+            r = next((self.ranges[p] for p in paths if p in self.ranges), None)
+            name, tr = self._type_range(t)
+            if r is None:
+                r = tr
+            if r is None:
+                raise Unbounded(name, paths[0] if paths else None)
+            lo, hi = math.ceil(r[0]), math.floor(r[1])
+            if t == ast.NAT:
+                lo = max(lo, 0)
+            d = [Fraction(n) for n in range(lo, hi + 1)] if t == ast.REAL else list(range(lo, hi + 1))
+        self._domains[key] = d
+        return d
+
+    def _get(self, ctx: _Ctx, var: ast.Variable) -> object:
+        b = ctx.bind
+        if b is not None:
+            k = (var.owner, var.name)
+            if k in b:
+                return b[k]
+        v = ctx.get(self._slot(ctx.i, var))
+        if v is None:
+            raise NotInterpretable(var.pos, f"variable {var.name} is read before it has a value")
+        return v
+
+    def _eval(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        if isinstance(e, ast.Literal):
+            if isinstance(e.value, str):
+                raise NotInterpretable(e.pos, "strings")
+            return e.value
+        if isinstance(e, ast.VarRef):
+            return self._get(ctx, e.variable)
+        if isinstance(e, ast.Binary):
+            op = e.op
+            if op == "and":
+                return bool(self._eval(ctx, e.left)) and bool(self._eval(ctx, e.right))
+            if op == "or":
+                return bool(self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
+            if op == "implies":
+                return (not self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
+            a = self._eval(ctx, e.left)
+            b = self._eval(ctx, e.right)
+            if op == "+":
+                return a + b
+            if op == "-":
+                return a - b
+            if op == "*":
+                return a * b
+            if op == "==":
+                return a == b
+            if op == "!=":
+                return a != b
+            if op == "<":
+                return a < b
+            if op == "<=":
+                return a <= b
+            if op == ">":
+                return a > b
+            if op == ">=":
+                return a >= b
+            if op == "iff":
+                return bool(a) == bool(b)
+            if op in ("/", "%"):
+                if b == 0:
+                    raise NotInterpretable(e.pos, "division by zero")
+                real = e.type == ast.REAL or isinstance(a, Fraction) or isinstance(b, Fraction)
+                if op == "/":
+                    return Fraction(a) / Fraction(b) if real else _ediv(a, b)
+                if real:
+                    raise NotInterpretable(e.pos, "% on reals")
+                return a - b * _ediv(a, b)
+            raise NotInterpretable(e.pos, f"operator {op}")
+        if isinstance(e, ast.EnumLiteral):
+            return f"{e.enum.name}::{e.literal}"
+        if isinstance(e, ast.FieldRef):
+            r = self._eval(ctx, e.record)
+            v = r.get(e.field_name) if isinstance(r, dict) else None
+            if v is None:
+                raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
+            return v
+        if isinstance(e, ast.Unary):
+            v = self._eval(ctx, e.operand)
+            if e.op == "not":
+                return not v
+            if e.op == "-":
+                return -v
+            raise NotInterpretable(e.pos, f"operator {e.op}")
+        if isinstance(e, ast.IfExpr):
+            return self._eval(ctx, e.then) if self._eval(ctx, e.condition) else self._eval(ctx, e.otherwise)
+        if isinstance(e, ast.RecordLiteral):
+            t = e.type
+            given = dict(e.fields)
+            if isinstance(t, ast.RecordType) and any(f.name not in given for f in t.fields):
+                raise NotInterpretable(e.pos, "a record literal omitting fields")
+            return _coerce(t, Record({n: self._eval(ctx, x) for n, x in e.fields}))
+        if isinstance(e, ast.Since):
+            return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
+        if isinstance(e, ast.SinceEntry):
+            return ctx.get(self._since_slot(ctx, e))
+        if isinstance(e, ast.Call):
+            f = e.function
+            if f.definition is None:
+                raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
+            args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
+            saved = ctx.bind
+            ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
+            try:
+                if not all(self._eval(ctx, pre) is True for pre in f.preconditions):
+                    # Outside its preconditions the function is unconstrained (§2.15): any value.
+                    raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
+                return self._eval(ctx, f.definition)
+            finally:
+                ctx.bind = saved
+        if isinstance(e, ast.ResultRef):
+            raise NotInterpretable(e.pos, "result outside a postcondition")
+        raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _since_slot(self, ctx: _Ctx, e: ast.SinceEntry) -> int:
+        for key in (k for k in self._slot_of if k[0] == "since" and k[1] == ctx.i and k[3] == e.state):
+            return self._slot_of[key]
+        raise NotInterpretable(e.pos, f"sinceEntry({e.state})")
+
+    def _truth(self, ctx: _Ctx, e: ast.Expr | None) -> bool:
+        return True if e is None else bool(self._eval(ctx, e))
+
+    def _assign(self, ctx: _Ctx, var: ast.Variable, fields: tuple[str, ...], value: object) -> bool:
+        """Store `value` in `var` (or one of its fields); False if a nat place would go negative."""
+        slot = self._slot(ctx.i, var)
+        t = var.type
+        if fields:
+            old = ctx.get(slot)
+            if not isinstance(old, dict):
+                raise NotInterpretable(var.pos, f"a field of {var.name}, which has no value")
+
+            def put(rec: dict, rt: ast.Type, path: tuple[str, ...]) -> Record:
+                ft = rt.field_type(path[0]) if isinstance(rt, ast.RecordType) else None
+                if len(path) == 1:
+                    v = _coerce(ft, value)
+                else:
+                    v = put(rec[path[0]], ft, path[1:])  # type: ignore[arg-type]
+                return Record(rec).with_field(path[0], v)
+
+            value = put(old, t, fields)
+        value = _coerce(t, value)
+        if not _fits(t, value):
+            return False
+        ctx.set(slot, value)
+        return True
+
+    # ------------------------------------------------------------------ configurations
+
+    def _match(self, table: dict, info: _Slot) -> tuple[bool, object]:
+        if info.var is None:
+            return False, None
+        names = [info.display, info.var.name]
+        if info.inst is not None:
+            m = self.insts[info.inst]
+            names += [f"{m.name}::{info.var.name}", f"{m.machine.qname}::{info.var.name}",
+                      f"{m.local}.{info.var.name}"]
+        names.append(f"{info.var.owner}::{info.var.name}")
+        for n in names:
+            if n in table:
+                return True, table[n]
+        return False, None
+
+    def initial(self, choices: dict[str, object] | None = None) -> list[Config]:
+        """Every initial configuration: one per choice of the constants without a value and the
+        variables without an initial value (over their ranges, or from `choices`)."""
+        choices = choices or {}
+        base: list[object] = [None] * len(self.slots)
+        open_slots: list[tuple[int, list]] = []
+        deferred: list[tuple[int, _Slot]] = []
+        for s, info in enumerate(self.slots):
+            if info.kind in ("clock", "since", "tdl"):
+                base[s] = 0
+            elif info.kind in ("var", "const"):
+                var = info.var
+                assert var is not None
+                found, val = self._match(self.settings, info) if info.kind == "const" else (False, None)
+                if not found:
+                    found, val = self._match(choices, info)
+                if found:
+                    base[s] = _coerce(var.type, val)
+                elif var.initial is not None:
+                    deferred.append((s, info))
+                else:
+                    open_slots.append((s, self.domain(var.type, self._paths_of(info))))
+        # constants first, then variables, each in declaration order
+        deferred.sort(key=lambda x: 0 if x[1].kind == "const" else 1)
+        frames = tuple((Frame(inst.beh, self.behs[inst.beh].initial[None], (), False, (), (), None),)
+                       for inst in self.insts)
+        out: list[Config] = []
+        seen: set[Config] = set()
+        for combo in itertools.product(*(d for _, d in open_slots)):
+            store = list(base)
+            for (s, _), v in zip(open_slots, combo, strict=True):
+                store[s] = v
+            ok = True
+            for s, info in deferred:
+                ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
+                assert info.var is not None and info.var.initial is not None
+                v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
+                if not _fits(info.var.type, v):
+                    ok = False
+                    break
+                store[s] = v
+            if not ok:
+                continue
+            st = tuple(store)
+            st = self._fix_deadlines(frames, st)
+            c = Config(frames, st, False)
+            if c not in seen:
+                seen.add(c)
+                out.append(c)
+        return out
+
+    def _paths_of(self, info: _Slot) -> tuple[str, ...]:
+        assert info.var is not None
+        paths = [info.display]
+        if info.inst is not None:
+            m = self.insts[info.inst]
+            paths += [f"{m.name}::{info.var.name}", f"{m.machine.qname}::{info.var.name}"]
+        paths.append(f"{info.var.owner}::{info.var.name}")
+        return tuple(dict.fromkeys(paths))
+
+    def terminated(self, config: Config) -> bool:
+        return config.done
+
+    def states(self, config: Config) -> dict[str, str]:
+        out = {}
+        for inst, frames in zip(self.insts, config.machines, strict=True):
+            if config.done:
+                out[inst.name] = "terminated"
+                continue
+            parts = []
+            for k, f in enumerate(frames):
+                d = f"taking {f.via}" if f.via else (f.node or "?")
+                if k > 0:
+                    d = f"{self.behs[f.beh].b.name}(): {d}"
+                parts.append(d)
+            out[inst.name] = " / ".join(parts)
+        return out
+
+    def variables(self, config: Config) -> dict[str, object]:
+        return {info.display: config.store[s] for s, info in enumerate(self.slots)
+                if info.kind in ("var", "oplocal") and config.store[s] is not None}
+
+    # ------------------------------------------------------------------ one machine
+
+    def _norm(self, ctx: _Ctx, frames: list[Frame]) -> tuple:
+        """Run the bookkeeping instructions of the top frame (no step); returns the frames."""
+        while True:
+            f = frames[-1]
+            beh = self.behs[f.beh]
+            if not f.cont:
+                if f.intr:
+                    frames[-1] = f = f._replace(intr=False)
+                if len(frames) > 1 and f.via is None and f.node is not None:
+                    node = beh.nodes[f.node]
+                    if node.kind == "final" and node.parent is None:
+                        frames.pop()
+                        continue
+                break
+            head = f.cont[0]
+            rest = f.cont[1:]
+            tag = head[0]
+            if tag == "s":
+                st = self.stmts[head[1]]
+                if isinstance(st, ast.Seq):
+                    frames[-1] = f._replace(cont=tuple(("s", self._sid_of(s)) for s in st.statements) + rest)
+                elif isinstance(st, ast.Skip):
+                    frames[-1] = f._replace(cont=rest)
+                elif isinstance(st, ast.Deadline):
+                    bound = self._eval(ctx, st.bound)
+                    frames[-1] = f._replace(cont=(("s", self._sid_of(st.statement)), ("d",)) + rest,
+                                            dls=(*f.dls, int(bound)))
+                else:
+                    break
+            elif tag == "d":
+                frames[-1] = f._replace(cont=rest, dls=f.dls[:-1])
+            elif tag == "w":
+                if head[1] > 0:
+                    break
+                frames[-1] = f._replace(cont=rest)
+            elif tag == "x":
+                node = beh.nodes[head[1]]
+                pre = (("s", self._sid_of(node.exit)),) if node.kind == "state" and node.exit is not None else ()
+                frames[-1] = f._replace(cont=(*pre, ("l", head[1]), *rest))
+            elif tag == "l":
+                frames[-1] = f._replace(node=beh.nodes[head[1]].parent, cont=rest)
+            elif tag == "e":
+                path = head[1]
+                node = beh.nodes[path]
+                s = self._slot_of.get(("since", ctx.i, f.beh, path))
+                if s is not None:
+                    ctx.set(s, 0)
+                pre = (("s", self._sid_of(node.entry)),) if node.kind == "state" and node.entry is not None else ()
+                frames[-1] = f._replace(node=path, cont=(*pre, *rest), via=None)
+            elif tag == "a":
+                target, durs = head[1], head[2]
+                node = beh.nodes[target]
+                if node.kind == "state" and node.children:
+                    frames[-1] = f._replace(node=beh.initial[target], cont=rest, pend=durs, via=None)
+                elif node.kind == "state" or (node.kind == "final" and node.parent is not None):
+                    active = set(beh.ancestors(target))
+                    cont = tuple(("s", self._sid_of(beh.nodes[p].during)) for p in durs
+                                 if p in active and beh.nodes[p].during is not None)
+                    frames[-1] = f._replace(node=target, cont=cont + rest, intr=bool(cont), pend=(), via=None,
+                                            dls=())
+                else:
+                    frames[-1] = f._replace(node=target, cont=rest, pend=durs, via=None)
+            else:  # pragma: no cover
+                raise AssertionError(head)
+        return tuple(frames)
+
+    def _result(self, ctx: _Ctx, frames: list[Frame]) -> tuple[tuple, dict]:
+        return self._norm(ctx, frames), ctx.upd
+
+    def _else_holds(self, ctx: _Ctx, beh: _Beh, t: ast.Transition) -> bool:
+        for o in beh.out.get(t.source, ()):
+            if o is t or o.is_else or (o.trigger is not None and o.trigger.kind == "input"):
+                continue
+            if self._truth(ctx, o.condition):
+                return False
+        return True
+
+    def _guard(self, ctx: _Ctx, beh: _Beh, t: ast.Transition) -> bool:
+        return self._else_holds(ctx, beh, t) if t.is_else else self._truth(ctx, t.condition)
+
+    def _take(self, ctx: _Ctx, frames: tuple, k: int, t: ast.Transition) -> tuple[tuple, dict]:
+        f = frames[k]
+        beh = self.behs[f.beh]
+        for c in t.clock_resets:
+            ctx.set(self._slot_of[("clk", ctx.i, c.name)], 0)
+        exits, enters = beh.path(f.node, t.source, t.target)  # type: ignore[arg-type]
+        # Leaving a state (a self-transition included) restarts the deadlines of its transitions (§2.11).
+        for slot, bi, dt in self._tdl.get(ctx.i, ()):
+            if bi == f.beh and dt.source in exits:
+                ctx.set(slot, 0)
+        durs = f.pend + tuple(p for p in enters if beh.nodes[p].during is not None)
+        cont = (*(("x", p) for p in exits),
+                *((("s", self._sid_of(t.action)),) if t.action is not None else ()),
+                *(("e", p) for p in enters),
+                ("a", t.target, durs))
+        nf = Frame(f.beh, f.node, cont, False, (), (), t.name)
+        return self._result(ctx, [*frames[:k], nf])
+
+    def _moves(self, cfg: Config, i: int) -> list[tuple]:
+        """The moves machine `i` offers: ("tau", note, result), ("out", port, type, value, result),
+        ("in", port, type, acceptor), ("call", name, params, args, result), ("term", result)."""
+        frames = cfg.machines[i]
+        out: list[tuple] = []
+        top = len(frames) - 1
+        if frames[top].cont:
+            self._instr_moves(cfg, i, frames, out)
+        for k in range(top, -1, -1):
+            f = frames[k]
+            if (k == top and not f.cont) or f.intr:
+                self._transition_moves(cfg, i, frames, k, out)
+        return out
+
+    def _transition_moves(self, cfg: Config, i: int, frames: tuple, k: int, out: list) -> None:
+        f = frames[k]
+        beh = self.behs[f.beh]
+        if f.node is None:
+            return
+        node = beh.nodes[f.node]
+        if node.kind == "final" and node.parent is None:
+            if k == 0:
+                out.append(("term", (frames, {})))
+            return
+        mname = self.insts[i].name
+        for t in beh.candidates(f.node):
+            trig = t.trigger
+            note = f"{mname}: transition {t.name}"
+            if trig is None:
+                ctx = _Ctx(cfg.store, i)
+                if self._guard(ctx, beh, t):
+                    out.append(("tau", note, self._take(ctx, frames, k, t)))
+            elif trig.kind == "output":
+                ctx = _Ctx(cfg.store, i)
+                if self._guard(ctx, beh, t):
+                    etype = trig.event.type
+                    v = _coerce(etype, self._eval(ctx, trig.value)) if trig.value is not None else None
+                    if etype is not None and v is None:
+                        raise NotInterpretable(t.pos, "an output without a value on a typed event")
+                    out.append(("out", trig.event.name, etype, v, self._take(ctx, frames, k, t)))
+            else:
+                out.append(("in", trig.event.name, trig.event.type,
+                            self._trigger_acceptor(cfg, i, frames, k, t, note)))
+
+    def _trigger_acceptor(self, cfg: Config, i: int, frames: tuple, k: int, t: ast.Transition, note: str):
+        beh = self.behs[frames[k].beh]
+        trig = t.trigger
+        assert trig is not None
+
+        def accept(v: object) -> list[tuple[str, tuple]]:
+            ctx = _Ctx(cfg.store, i)
+            if trig.kind == "input" and trig.variable is not None:
+                if not self._assign(ctx, trig.variable, (), v):
+                    return []
+            elif trig.kind == "sync" and trig.value is not None:
+                if _coerce(trig.event.type, self._eval(ctx, trig.value)) != v:
+                    return []
+            if not self._guard(ctx, beh, t):
+                return []
+            return [(note, self._take(ctx, frames, k, t))]
+
+        return accept
+
+    def _instr_moves(self, cfg: Config, i: int, frames: tuple, out: list) -> None:
+        f = frames[-1]
+        head = f.cont[0]
+        if head[0] != "s":
+            return  # waiting
+        st = self.stmts[head[1]]
+        rest = f.cont[1:]
+        mname = self.insts[i].name
+        done = [*frames[:-1], f._replace(cont=rest)]
+        if isinstance(st, ast.Assign):
+            ctx = _Ctx(cfg.store, i)
+            v = self._eval(ctx, st.value)
+            if self._assign(ctx, st.variable, st.fields, v):
+                target = ".".join((st.variable.name, *st.fields))
+                out.append(("tau", f"{mname}: {target} := {value_text(st.value.type, _coerce(st.value.type, v))}",
+                            self._result(ctx, done)))
+        elif isinstance(st, ast.Send):
+            ctx = _Ctx(cfg.store, i)
+            etype = st.event.type
+            v = _coerce(etype, self._eval(ctx, st.value)) if st.value is not None else None
+            if etype is not None and v is None:
+                raise NotInterpretable(st.pos, "an output without a value on a typed event")
+            out.append(("out", st.event.name, etype, v, self._result(ctx, done)))
+        elif isinstance(st, ast.Receive):
+            var = st.variable
+
+            def accept(v: object) -> list[tuple[str, tuple]]:
+                ctx = _Ctx(cfg.store, i)
+                if var is not None and not self._assign(ctx, var, (), v):
+                    return []
+                return [(f"{mname}: receive {st.event.name}", self._result(ctx, list(done)))]
+
+            out.append(("in", st.event.name, st.event.type, accept))
+        elif isinstance(st, ast.OperationCall):
+            ctx = _Ctx(cfg.store, i)
+            d = self._resolve_call(i, st)
+            if d is None:
+                params = st.operation.parameters
+                args = tuple(_coerce(p.type, self._eval(ctx, a)) for p, a in zip(params, st.args, strict=False))
+                out.append(("call", st.operation.name, params, args, self._result(ctx, done)))
+            else:
+                self._call_defined(cfg, i, ctx, d, st, done, out)
+        elif isinstance(st, ast.If):
+            ctx = _Ctx(cfg.store, i)
+            branch = st.then if self._truth(ctx, st.condition) else st.otherwise
+            nf = f._replace(cont=(("s", self._sid_of(branch)), *rest))
+            out.append(("tau", f"{mname}: if", self._result(ctx, [*frames[:-1], nf])))
+        elif isinstance(st, ast.Wait):
+            ctx = _Ctx(cfg.store, i)
+            lo = self._eval(ctx, st.low)
+            hi = self._eval(ctx, st.high)
+            for n in range(math.ceil(lo), math.floor(hi) + 1):
+                c2 = _Ctx(cfg.store, i)
+                nf = f._replace(cont=(("w", n), *rest))
+                out.append(("tau", f"{mname}: wait({n})", self._result(c2, [*frames[:-1], nf])))
+        elif isinstance(st, ast.ClockReset):
+            ctx = _Ctx(cfg.store, i)
+            ctx.set(self._slot_of[("clk", i, st.clock.name)], 0)
+            out.append(("tau", f"{mname}: #{st.clock.name}", self._result(ctx, done)))
+        else:
+            raise NotInterpretable(st.pos, f"the statement {type(st).__name__}")
+
+    def _call_defined(self, cfg: Config, i: int, ctx: _Ctx, d: ast.OperationDef, st: ast.OperationCall,
+                      done: list, out: list) -> None:
+        bi = self._beh(d, True)
+        args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(d.parameters, st.args, strict=False)]
+        for p, a in zip(d.parameters, args, strict=False):
+            ctx.set(self._slot(i, p), a)
+        locals_ = [v for v in d.variables]
+        fixed = [(v, None) for v in locals_ if v.initial is not None]
+        free = [v for v in locals_ if v.initial is None]
+        doms = [self.domain(v.type, (f"{self.insts[i].name}.{d.name}().{v.name}", f"{d.qname}::{v.name}"))
+                for v in free]
+        for combo in itertools.product(*doms):
+            c2 = _Ctx(cfg.store, i, ctx.upd)
+            for v, val in zip(free, combo, strict=True):
+                c2.set(self._slot(i, v), val)
+            for v, _ in fixed:
+                assert v.initial is not None
+                if not self._assign(c2, v, (), self._eval(c2, v.initial)):
+                    break
+            else:
+                nf = Frame(bi, self.behs[bi].initial[None], (), False, (), (), None)
+                text = ", ".join(value_text(p.type, a) for p, a in zip(d.parameters, args, strict=False))
+                out.append(("tau", f"{self.insts[i].name}: call {d.name}({text})",
+                            self._result(c2, [*done, nf])))
+
+    # ------------------------------------------------------------------ deadlines
+
+    def _armed(self, machines: tuple, store: tuple, i: int) -> dict[int, tuple[bool, int]]:
+        res: dict[int, tuple[bool, int]] = {}
+        frames = machines[i]
+        top = len(frames) - 1
+        active: dict[int, int] = {f.beh: k for k, f in enumerate(frames)}
+        for s, bi, t in self._tdl.get(i, ()):
+            ctx = _Ctx(store, i)
+            bound = int(self._eval(ctx, t.deadline))  # type: ignore[arg-type]
+            armed = False
+            k = active.get(bi)
+            if k is not None:
+                f = frames[k]
+                beh = self.behs[bi]
+                if ((k == top and not f.cont) or f.intr) and f.node is not None \
+                        and t.source in beh.ancestors(f.node):
+                    armed = self._could_fire(ctx, beh, t)
+            res[s] = (armed, bound)
+        return res
+
+    def _could_fire(self, ctx: _Ctx, beh: _Beh, t: ast.Transition) -> bool:
+        trig = t.trigger
+        if trig is not None and trig.kind == "input" and trig.variable is not None:
+            var = trig.variable
+            for v in self.domain(trig.event.type, ()):
+                c2 = _Ctx(ctx.base, ctx.i)
+                if self._assign(c2, var, (), v) and self._guard(c2, beh, t):
+                    return True
+            return False
+        return self._guard(ctx, beh, t)
+
+    def _fix_deadlines(self, machines: tuple, store: tuple) -> tuple:
+        """Trigger-deadline counters of transitions that are not armed are 0."""
+        if not self._tdl:
+            return store
+        st = None
+        for i in self._tdl:
+            for s, (armed, _) in self._armed(machines, store, i).items():
+                if not armed and store[s] != 0:
+                    if st is None:
+                        st = list(store)
+                    st[s] = 0
+        return tuple(st) if st is not None else store
+
+    # ------------------------------------------------------------------ the network
+
+    def _config(self, cfg: Config, changes: list[tuple[int, tuple, dict]], extra: dict | None = None,
+                done: bool = False) -> Config:
+        machines = list(cfg.machines)
+        store = list(cfg.store)
+        for i, frames, upd in changes:
+            machines[i] = frames
+            for s, v in upd.items():
+                store[s] = v
+        if extra:
+            for s, v in extra.items():
+                store[s] = v
+        m = tuple(machines)
+        return Config(m, self._fix_deadlines(m, tuple(store)), done)
+
+    def _event(self, base: str, direction: str | None, t: ast.Type | None, v: object) -> Event:
+        if direction is None:
+            return Event(base, (base,), ())
+        name = f"{base}.{direction}"
+        if t is None:
+            return Event(name, (base, direction), ())
+        return Event(f"{name}.{value_text(t, v)}", (base, direction), (v,))
+
+    def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...], inputs: dict | None) -> list:
+        ch = (base, "in")
+        if inputs and ch in inputs:
+            given = inputs[ch]
+            if t is None:
+                return [None]
+            return [_coerce(t, given[0] if isinstance(given, tuple) else given)]
+        if inputs is not None:  # values given for some channels (replay): the others offer their range if any
+            try:
+                return self.domain(t, paths)
+            except Unbounded:
+                return []
+        return self.domain(t, paths)
+
+    def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
+        """Every step possible from `config` (semantics.md §2)."""
+        if config.done:
+            return []
+        n = len(self.insts)
+        moves = [self._moves(config, i) for i in range(n)]
+        steps: list[Step] = []
+        urgent = False
+        # receivers of synchronous machine-to-machine links, by port
+        ins_by_port: dict[tuple, list] = defaultdict(list)
+        for i, ms in enumerate(moves):
+            for m in ms:
+                if m[0] == "in":
+                    ins_by_port[(i, m[1])].append(m)
+        for i, ms in enumerate(moves):
+            mname = self.insts[i].name
+            for m in ms:
+                kind = m[0]
+                if kind == "tau":
+                    _, note, (frames, upd) = m
+                    steps.append(Step("internal", None, self._config(config, [(i, frames, upd)]), note))
+                elif kind == "call":
+                    _, opname, params, args, (frames, upd) = m
+                    base = f"{self.ename}::{opname}Call"
+                    name = base + "".join("." + value_text(p.type, a) for p, a in zip(params, args, strict=False))
+                    urgent = True
+                    steps.append(Step("event", Event(name, (base,), tuple(args)),
+                                      self._config(config, [(i, frames, upd)])))
+                elif kind == "term":
+                    _, (frames, upd) = m
+                    base = f"{self.ename}::terminate"
+                    steps.append(Step("event", Event(base, (base,), ()),
+                                      self._config(config, [(i, frames, upd)], done=True)))
+                elif kind == "out":
+                    _, port, t, v, (frames, upd) = m
+                    link = self.out_link.get((i, port))
+                    if link is None or (link.dst is None and not link.asynchronous):
+                        base = link.vis if link is not None else f"{mname}::{port}"
+                        steps.append(Step("event", self._event(base, "out", t, v),
+                                          self._config(config, [(i, frames, upd)])))
+                    elif link.asynchronous:
+                        assert link.slot is not None
+                        steps.append(Step("internal", None,
+                                          self._config(config, [(i, frames, upd)], {link.slot: (v,)}),
+                                          f"{mname}: {port} into buffer"))
+                    else:
+                        assert link.dst is not None
+                        j, q = link.dst
+                        for rm in ins_by_port.get((j, q), ()):
+                            for _note, (rframes, rupd) in rm[3](v):
+                                merged = dict(upd)
+                                merged.update(rupd)
+                                steps.append(Step("internal", None,
+                                                  self._config(config, [(i, frames, {}), (j, rframes, merged)]),
+                                                  f"{mname}.{port} to {self.insts[j].name}.{q}"
+                                                  + ("" if t is None else f" ({value_text(t, v)})")))
+                elif kind == "in":
+                    _, port, t, accept = m
+                    links = self.in_links.get((i, port), [])
+                    if not links:
+                        base = f"{mname}::{port}"
+                        for v in self._inputs_for(base, t, (base, f"{self.insts[i].machine.qname}::{port}"),
+                                                  inputs):
+                            for _note, (frames, upd) in accept(v):
+                                steps.append(Step("event", self._event(base, "in", t, v),
+                                                  self._config(config, [(i, frames, upd)])))
+                    for link in links:
+                        if link.asynchronous:
+                            assert link.slot is not None
+                            buf = config.store[link.slot]
+                            if buf is None:
+                                continue
+                            for note, (frames, upd) in accept(buf[0]):
+                                steps.append(Step("internal", None,
+                                                  self._config(config, [(i, frames, upd)], {link.slot: None}),
+                                                  f"{note} ({port} from buffer)"))
+                        elif link.src is None:
+                            assert link.vis is not None
+                            for v in self._inputs_for(link.vis, t, (link.vis, f"{mname}::{port}"), inputs):
+                                for _note, (frames, upd) in accept(v):
+                                    steps.append(Step("event", self._event(link.vis, "in", t, v),
+                                                      self._config(config, [(i, frames, upd)])))
+        # the environment's side of asynchronous links
+        for link in self.links:
+            if not link.asynchronous or link.vis is None:
+                continue
+            assert link.slot is not None
+            if link.src is None:
+                assert link.dst is not None
+                j, q = link.dst
+                for v in self._inputs_for(link.vis, link.type, (link.vis, f"{self.insts[j].name}::{q}"), inputs):
+                    steps.append(Step("event", self._event(link.vis, "in", link.type, v),
+                                      self._config(config, [], {link.slot: (v,)})))
+            elif link.dst is None:
+                buf = config.store[link.slot]
+                if buf is not None:
+                    steps.append(Step("event", self._event(link.vis, "out", link.type, buf[0]),
+                                      self._config(config, [], {link.slot: None})))
+        tock = self._tock(config, steps, urgent)
+        if tock is not None:
+            steps.append(Step("tock", TOCK, tock))
+        return steps
+
+    def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
+        """The configuration after `tock`, or None if `tock` is refused (§2.1, §2.11)."""
+        if urgent or any(s.kind == "internal" for s in steps):
+            return None
+        for frames in config.machines:
+            for f in frames:
+                if any(d <= 0 for d in f.dls):
+                    return None
+        store = list(config.store)
+        for i in self._tdl:
+            for s, (armed, bound) in self._armed(config.machines, config.store, i).items():
+                if armed:
+                    if config.store[s] >= bound:
+                        return None
+                    store[s] = config.store[s] + 1
+        caps = self._caps
+        for s in self._timed_slots:
+            cap = caps.get(s)
+            store[s] = store[s] + 1 if cap is None or store[s] < cap else cap
+        machines = []
+        base = tuple(store)
+        upd: dict = {}
+        for i, frames in enumerate(config.machines):
+            fl = [f._replace(dls=tuple(d - 1 for d in f.dls)) if f.dls else f for f in frames]
+            top = fl[-1]
+            if top.cont and top.cont[0][0] == "w":
+                fl[-1] = top._replace(cont=(("w", top.cont[0][1] - 1), *top.cont[1:]))
+            ctx = _Ctx(base, i, upd)
+            machines.append(self._norm(ctx, fl))
+            upd = ctx.upd
+        for s, v in upd.items():
+            store[s] = v
+        m = tuple(machines)
+        return Config(m, self._fix_deadlines(m, tuple(store)), False)

@@ -1,0 +1,106 @@
+"""Replay: the independent interpreter follows a counterexample that BMC found.
+
+The interpreter starts from the values the trace starts from (constants and
+variables the model leaves open) and must perform the trace's visible steps,
+events and tocks, in order, with any internal steps between them (the two
+engines cut internal work into steps differently), and end in a configuration
+where the claimed condition holds (terminated, refusing tock, in the state…).
+If it cannot, `ReplayFailure` says where, with both views: that is a bug in
+tockbmc, never a user error.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable, Hashable, Iterator, Mapping
+
+from tockbmc.bmc.result import TraceStep
+from tockbmc.explicit.interpreter import Config, Interpreter, Step
+from tockbmc.properties.process import Context
+
+LIMIT = 200_000  # configurations explored before replay gives up (reported as a failure to follow)
+
+
+class ReplayFailure(Exception):
+    """The interpreter cannot follow a BMC trace: at which step, and what each engine does there."""
+
+    def __init__(self, step: int, bmc: str, interpreter: str):
+        super().__init__(f"the interpreter cannot follow BMC's trace at step {step}: BMC does {bmc}; "
+                         f"the interpreter can do {interpreter}")
+        self.step, self.bmc, self.interpreter = step, bmc, interpreter
+
+
+class _Inputs(Mapping[tuple, tuple]):
+    """The values to offer on input channels: the trace's next event's, and none on any other."""
+
+    def __init__(self, channel: tuple | None, values: tuple):
+        self.channel, self.values = channel, values
+
+    def __getitem__(self, channel: tuple) -> tuple:
+        if channel == self.channel:
+            return self.values
+        raise KeyError(channel)
+
+    def __iter__(self) -> Iterator[tuple]:
+        return iter([self.channel] if self.channel is not None else [])
+
+    def __len__(self) -> int:
+        return 1 if self.channel is not None else 0
+
+
+def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str, object],
+           context: Context | None, final: Callable[[Config, list[Step]], bool]) -> None:
+    """Follow `trace` (its visible steps) with the interpreter, or raise `ReplayFailure`."""
+    visible = [s for s in trace if s.kind in ("event", "tock") and s.note not in _OUTSIDE]
+    seen: set[Hashable] = set()
+    todo: deque[tuple[Config, int]] = deque()
+    for c in interp.initial(choices):
+        if (c, 0) not in seen:
+            seen.add((c, 0))
+            todo.append((c, 0))
+    best, offered = 0, set()
+    while todo:
+        config, i = todo.popleft()
+        expected = visible[i] if i < len(visible) else None
+        inputs = _Inputs(expected.channel if expected is not None and expected.kind == "event" else None,
+                         expected.values if expected is not None else ())
+        steps = interp.steps(config, inputs)
+        statuses = [_status(context, s) for s in steps]
+        hidden_possible = any(st == "hidden" and s.kind == "event" for s, st in zip(steps, statuses, strict=True))
+        allowed = [s for s, st in zip(steps, statuses, strict=True)
+                   if st != "blocked" and not (s.kind == "tock" and hidden_possible)]
+        if expected is None and final(config, allowed):
+            return
+        if i > best:
+            best, offered = i, set()
+        for s, st in zip(steps, statuses, strict=True):
+            if s not in allowed:
+                continue
+            if s.kind == "internal" or st == "hidden":
+                nxt = (s.target, i)
+            elif expected is not None and s.kind == expected.kind and (
+                    s.kind == "tock" or (s.event is not None and s.event.name == expected.event)):
+                nxt = (s.target, i + 1)
+            else:
+                if i == best:
+                    offered.add("tock" if s.kind == "tock" else s.event.name if s.event else "?")
+                continue
+            if nxt not in seen:
+                if len(seen) >= LIMIT:
+                    break
+                seen.add(nxt)
+                todo.append(nxt)
+    if best < len(visible):
+        step = visible[best]
+        raise ReplayFailure(step.step, f"{step.event}", ", ".join(sorted(offered)[:8]) or "nothing")
+    raise ReplayFailure(visible[-1].step if visible else 0, "the end of its trace, where the assertion fails",
+                        "every step of the trace, but the assertion does not fail where it ends")
+
+
+_OUTSIDE = ("before the model starts", "after the model terminates")
+
+
+def _status(context: Context | None, s: Step) -> str:
+    if context is None or s.event is None:
+        return "visible"
+    return context.status(s.event.channel, len(s.event.values))
