@@ -74,6 +74,7 @@ class Edge:
     transition: str | None = None  # name of the transition this step belongs to
     negated_guards: tuple[tuple[ast.Expr, ...], ...] = ()  # for `else`: none of these holds
     ends_wait: bool = False  # leaves a `wait` once its tocks have passed
+    havoc: tuple[ast.Variable, ...] = ()  # variables that take any value of their type and range (fresh locals)
     exits: tuple[str, ...] = ()  # on a transition's first step: the states it leaves
 
 
@@ -507,10 +508,15 @@ class _Builder:
             if ("", v) not in self.a.extra_variables:
                 self.a.extra_variables.append(("", v))
         self.a.extra_clocks += [c.name for c in op.clocks if c.name not in self.a.extra_clocks]
-        if op.parameters:
+        # Each call is a new activation: parameters take the arguments, the operation's variables
+        # their initial values, or any value when they have none.
+        locals_ = [v for v in op.variables if not v.constant]
+        if op.parameters or locals_:
             nxt = self._location(f"call {op.name}", active)
             updates = tuple(ast.Assign(call.pos, p, (), a) for p, a in zip(op.parameters, call.args, strict=True))
-            self.a.edge(cur, nxt, "tau", updates=updates)
+            updates += tuple(ast.Assign(call.pos, v, (), v.initial) for v in locals_ if v.initial is not None)
+            havoc = tuple(v for v in locals_ if v.initial is None)
+            self.a.edge(cur, nxt, "tau", updates=updates, havoc=havoc)
             cur = nxt
         inner = _Builder(_renamed(op, label), self.a, self.defined, (*self.outer, *active), self._in_deadline,
                          (*self.calls, op.qname))

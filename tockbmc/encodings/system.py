@@ -367,8 +367,13 @@ class System:
             new = Evaluator(current, self.constants[c], self.side, ev.clocks).value(a.value)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
+        for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
+            base, t = self.slots[c][id(v)]
+            value = self.chosen(f"{base}.fresh", t, i)
+            choose += domain(value, t, self.ranges, base)
+            current[id(v)] = value
         for key, (base, _t) in self.slots[c].items():
-            if key in bound or any(id(a.variable) == key for a in e.updates):
+            if key in bound or any(id(a.variable) == key for a in e.updates) or any(id(v) == key for v in e.havoc):
                 for path, term in leaves(current[key]):
                     post[base + path] = term
         if e.target != e.source:

@@ -130,6 +130,8 @@ class Search:
         todo: deque[Hashable] = deque()
         for key in start:
             if key not in self.depth:
+                if len(self.depth) >= self.max_states:
+                    raise MemoryError
                 self.depth[key] = 0
                 self.parent[key] = None
                 todo.append(key)

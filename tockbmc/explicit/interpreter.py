@@ -584,6 +584,8 @@ class Interpreter:
         inst = self.insts[i].name
         if key[0] == "shared":
             display = var.name
+        elif op is not None and var.owner == op.qname and var.constant and var.kind != "parameter":
+            display = f"{inst}.{op.name}().{var.name}"  # an operation's constant: set like the machine's
         elif op is not None and var.owner == op.qname:
             self._reg(key, "oplocal", var, f"{inst}.{op.name}().{var.name}", i)
             return
@@ -594,12 +596,11 @@ class Interpreter:
     def _resolve_call(self, i: int, st: ast.OperationCall) -> ast.OperationDef | None:
         """The defined operation a call runs, or None for a platform operation."""
         op = st.operation
+        # §2.2: a platform operation is a signature, or an operation whose body is only `terminates`.
         if isinstance(op, ast.OperationDef):
-            return None if op.terminates or not op.nodes else op
+            return op if op.nodes else None
         d = self.insts[i].defined.get(op.name)
-        if d is not None and not d.terminates and d.nodes:
-            return d
-        return None
+        return d if d is not None and d.nodes else None
 
     def _scan(self, i: int, bi: int, stack: list[int]) -> None:
         beh = self.behs[bi]
@@ -1245,7 +1246,7 @@ class Interpreter:
         args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(d.parameters, st.args, strict=False)]
         for p, a in zip(d.parameters, args, strict=False):
             ctx.set(self._slot(i, p), a)
-        locals_ = [v for v in d.variables]
+        locals_ = [v for v in d.variables if not v.constant]  # constants are set once, like the machine's
         fixed = [(v, None) for v in locals_ if v.initial is not None]
         free = [v for v in locals_ if v.initial is None]
         doms = [self.domain(v.type, (f"{self.insts[i].name}.{d.name}().{v.name}", f"{d.qname}::{v.name}"))

@@ -1,0 +1,114 @@
+"""The explicit engine, `simulate` and replay: the independent interpreter as a second opinion.
+
+The interpreter (`tockbmc/explicit/interpreter.py`) shares nothing with `encodings/`; here it
+checks the corpus beside BMC, replays BMC's counterexamples, and runs the CLI commands that
+expose it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from fractions import Fraction
+
+import pytest
+from click.testing import CliRunner
+from conftest import CONFORMANCE, EXAMPLE
+from test_conformance_check import ROBOTOOL_RANGES, results
+
+from tockbmc import ModelError, load
+from tockbmc.check import check
+from tockbmc.cli import cli
+from tockbmc.encodings.values import Range, Ranges
+from tockbmc.explicit.engine import check_explicit, python_settings, ranges_dict
+from tockbmc.explicit.interpreter import Interpreter
+from tockbmc.explicit.replay import ReplayFailure, replay
+from tockbmc.properties.queries import query
+from tockbmc.report.trace import initial_choices
+
+REALISTIC = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_real": Range(Fraction(-1), Fraction(1)),
+                    "core_nat": Range(Fraction(0), Fraction(3))})
+
+
+def test_engines_agree_on_the_corpus() -> None:
+    """Every corpus assertion both engines decide gets the same verdict from both (bound 12)."""
+    compared, disagreements = 0, []
+    for case in sorted((CONFORMANCE / "robochart").iterdir()):
+        try:
+            project = load(case)
+        except ModelError:
+            continue
+        for r in check_explicit(project, None, 12, ROBOTOOL_RANGES, {}, timeout=3, max_states=100_000):
+            bmc_verdict = results()[(case.name, r.assertion)][0]
+            if {bmc_verdict, r.verdict} & {"unsupported", "unknown"}:
+                continue
+            compared += 1
+            if bmc_verdict != r.verdict:
+                disagreements.append((case.name, r.assertion, bmc_verdict, r.verdict, r.reason))
+    assert not disagreements
+    assert compared >= 40  # the count when this test was written
+
+
+@pytest.mark.parametrize("name, verdict", [("A1", "violated"), ("A2", "violated"), ("A5", "violated"),
+                                           ("A7", "holds")])
+def test_paper_realistic_case_by_the_explicit_engine(name: str, verdict: str) -> None:
+    [r] = check_explicit(load(EXAMPLE), [name], 40, REALISTIC, {}, timeout=60)
+    assert r.verdict == verdict, r.reason
+    assert r.engine == "explicit" and r.extra["states"] > 0 and r.extra["transitions"] >= r.extra["states"] - 1
+    if verdict == "violated":
+        visible = [s.event for s in r.trace if s.kind != "internal"]
+        assert visible[0].startswith("EXAX::move.in.(") and "time=-1" in visible[0]
+
+
+def test_explicit_engine_needs_finite_ranges() -> None:
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A5", "--engine", "explicit"])
+    assert result.exit_code == 2
+    assert "core_int" in result.output or "core_real" in result.output
+
+
+def test_state_limit_gives_unknown() -> None:
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A6", "--engine", "explicit", "--range",
+                                      "core_int=0..2", "--range", "core_real=-1..1", "--max-states", "50",
+                                      "--format", "json"])
+    [r] = json.loads(result.output)["results"]
+    assert r["verdict"] == "unknown" and "state limit" in r["reason"] and r["states"] <= 50
+
+
+def test_simulate_prints_a_reproducible_random_run() -> None:
+    args = ["simulate", str(EXAMPLE), "--element", "EXAX", "--steps", "12", "--seed", "3",
+            "--range", "core_int=-1..1", "--range", "core_real=-1..1"]
+    first = CliRunner().invoke(cli, args)
+    assert first.exit_code == 0, first.output
+    assert "EXAX::" in first.output and "random run of EXAX" in first.output
+    assert CliRunner().invoke(cli, args).output == first.output
+    assert CliRunner().invoke(cli, ["simulate", str(EXAMPLE), "--element", "NoSuch"]).exit_code == 2
+
+
+def test_counterexamples_are_replayed() -> None:
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "--range", "core_int=-1..1", "--range",
+                                      "core_real=-1..1", "--format", "json"])
+    replayed = {r["assertion"]: r.get("replayed") for r in json.loads(result.output)["results"]}
+    assert all(replayed[n] == "yes" for n in ("A1", "A2", "A3", "A4", "A5", "A6")), replayed
+
+
+def test_replay_rejects_a_trace_the_interpreter_cannot_follow() -> None:
+    """A BMC trace with one event changed (a time budget the model never reads) cannot be followed."""
+    project = load(EXAMPLE)
+    a = next(x for x in project.assertions if x.name == "A5")
+    [r] = check(project, ["A5"], bound=12, ranges=REALISTIC)
+    q = query(project, a)
+    interp = Interpreter(q.element, ranges_dict(REALISTIC), python_settings({}), dict(q.defined))
+    steps = list(r.trace)
+    i = next(k for k, s in enumerate(steps) if s.event == "EXAX::out_of_sync.out")
+    steps[i] = dataclasses.replace(steps[i], event="EXAX::done.out", channel=("EXAX::done", "out"))
+    with pytest.raises(ReplayFailure) as failure:
+        replay(interp, tuple(steps), {}, None, lambda config, succ: interp.terminated(config))
+    assert failure.value.bmc == "EXAX::done.out" and "EXAX::out_of_sync.out" in failure.value.interpreter
+
+
+def test_initial_choices_feed_replay_with_unbounded_data() -> None:
+    """With no ranges, replay starts from the values BMC chose and feeds the trace's inputs."""
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A5", "--format", "json"])
+    [r] = json.loads(result.output)["results"]
+    assert r["verdict"] == "violated" and r["replayed"] == "yes"
+    assert initial_choices  # the decoder's view of the starting values is what replay is given
