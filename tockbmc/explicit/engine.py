@@ -181,6 +181,20 @@ class Search:
                 out.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values))
         return tuple(out)
 
+    def time_only(self, alive: Callable[[Hashable], bool]) -> Hashable | None:
+        """The nearest explored configuration from which only tock is ever possible (every
+        configuration it reaches offers tock alone), if any: a greatest fixpoint."""
+        doomed = {k for k, succ in self.succ.items()
+                  if alive(k) and succ and all(s.kind == "tock" for s, _ in succ)}
+        changed = True
+        while changed:
+            changed = False
+            for k in list(doomed):
+                if any(n not in doomed for _, n in self.succ[k]):
+                    doomed.discard(k)
+                    changed = True
+        return min(doomed, key=lambda k: self.depth[k]) if doomed else None
+
     def cycle(self, edge: Callable[[Step], bool], where: Callable[[Hashable], bool]) -> Hashable | None:
         """A node (explored, where `where` holds) on a cycle of steps for which `edge` holds."""
         graph = {k: [n for s, n in succ if edge(s) and n in self.succ] for k, succ in self.succ.items() if where(k)}
@@ -259,13 +273,12 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
 def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:
     interp = search.interp
     name = q.element.name
-    scope = ("every configuration reachable at any length was explored" if search.complete
-             else f"for every run of up to {search.bound} visible steps")
+    def scope() -> str:  # read after the search: whether it explored everything
+        return ("every configuration reachable at any length was explored" if search.complete
+                else f"for every run of up to {search.bound} visible steps")
 
     def done(holds_reason: str) -> Result:
-        scope_now = ("every configuration reachable at any length was explored" if search.complete
-                     else f"for every run of up to {search.bound} visible steps")
-        return result("holds", f"{holds_reason}; {scope_now}")
+        return result("holds", f"{holds_reason}; {scope()}")
 
     def internal(succ: list) -> bool:
         return any(s.kind == "internal" for s, _ in succ)
@@ -305,7 +318,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                                        f"{spec} cannot do", head + trace)
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
         if negated:
-            return result("violated" if search.complete else "unknown", f"every trace is a trace of {spec}; {scope}")
+            return result("violated" if search.complete else "unknown", f"every trace is a trace of {spec}; {scope()}")
         return done(f"every trace is a trace of {spec}")
     if q.context is not None and (q.context.impl.head or q.context.impl.continues):
         raise NotSupported("a process with a prefix or a continuation after termination is checked for "
@@ -321,7 +334,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             return result("holds", f"no configuration short of termination refuses every event; witness: {name} "
                                    "has terminated", search.trace(best))
         if search.complete:
-            return result("violated", f"termination is unreachable ({scope})")
+            return result("violated", f"termination is unreachable ({scope()})")
         return result("unknown", f"termination not found within {search.bound} visible steps")
     if kind == "terminates":  # does not terminate
         hit = search.run(lambda key, succ: "terminated" if terminated(key) else None)
@@ -334,14 +347,13 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             why = f"{name} has terminated, so tock is refused" if terminated(hit[0]) else f"{name} refuses tock here"
             return result("holds" if negated else "violated", why, search.trace(hit[0]))
         if negated:
-            return result("violated" if search.complete else "unknown", f"no configuration refuses tock; {scope}")
+            return result("violated" if search.complete else "unknown", f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
     if kind == "deadlock-free":
         hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
         why = f"{name} has not terminated and refuses every event, tock included"
         if hit is None:  # time only for ever, or divergence, among the explored configurations
-            loop = search.cycle(lambda s: s.kind == "tock",
-                                lambda k: not terminated(k) and all(s.kind == "tock" for s, _ in search.succ[k]))
+            loop = search.time_only(lambda k: not terminated(k))
             why = f"{name} offers nothing but tock, now and at every later time"
             if loop is None:
                 loop = search.cycle(lambda s: s.kind == "internal", lambda k: True)
@@ -350,7 +362,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if hit is not None:
             return result("holds" if negated else "violated", why, search.trace(hit[0]))
         if negated:
-            return result("violated" if search.complete else "unknown", f"no deadlock; {scope}")
+            return result("violated" if search.complete else "unknown", f"no deadlock; {scope()}")
         return done("no deadlock")
     if kind == "reachable":
         state = a.subject
@@ -365,7 +377,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return done(f"state {state} is never entered")
         if search.complete:
-            return result("violated", f"state {state} is never entered ({scope})")
+            return result("violated", f"state {state} is never entered ({scope()})")
         return result("unknown", f"state {state} not entered within {search.bound} visible steps")
     raise NotSupported(f"'{kind}' assertions are not supported by the explicit engine")
 
