@@ -1149,3 +1149,38 @@ assertion NT: M does not terminate.
     rs = run(tmp_path, rct, text)
     assert rs["C"].verdict == "unsupported", (rs["C"].verdict, rs["C"].reason)
     expect(rs["NT"], "violated", ["M::terminate"])
+
+
+def test_rule2_each_call_of_an_operation_starts_afresh(tmp_path) -> None:
+    """§2.2/§2.15 (found by comparing the engines): an operation's variable is initialised at each
+    call, so `bump()` called twice outputs k = 1 both times, never 2."""
+    rct = """
+interface Ops { bump() }
+stm M {
+  requires Ops
+  event out : int
+  initial i
+  state s { entry bump() ; bump() }
+  transition t0 { from i to s }
+}
+controller C {
+  event out : int
+  operation bump() {
+    event out : int
+    var k : int = 0
+    initial i
+    final f
+    transition t0 { from i to f action k = k + 1 ; out!k }
+  }
+  sref m = M
+  connection m on out to C on out
+}
+"""
+    text = """
+timed csp Ones csp-begin
+Timed(OneStep) { Ones = C::out.out.1 -> C::out.out.1 -> STOP }
+csp-end
+assertion A: C refines Ones in the traces model.
+"""
+    rs = run(tmp_path, rct, text)
+    expect(rs["A"], "holds")
