@@ -129,7 +129,7 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     Returns "yes", or "no: why" when the interpreter cannot run the model (a construct it does
     not interpret); raises `ReplayFailure` when it runs it but cannot follow the trace.
     """
-    from tockbmc.explicit.engine import _is_state, python_settings, ranges_dict
+    from tockbmc.explicit.engine import is_state, python_settings, ranges_dict
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
     from tockbmc.explicit.replay import replay
     from tockbmc.properties.queries import stuck, terminated, timelocked
@@ -145,7 +145,7 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
             if goal.target is timelocked or a.kind == "timelock-free":
                 return not any(s.kind in ("internal", "tock") for s in steps)
             if a.kind == "reachable":
-                return any(_is_state(m, s, a.subject) for m, s in interp.states(config).items())  # type: ignore[arg-type]
+                return any(is_state(m, s, a.subject) for m, s in interp.states(config).items())  # type: ignore[arg-type]
             return True
 
         replay(interp, trace, choices, q.context, final)

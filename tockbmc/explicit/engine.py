@@ -369,7 +369,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
 
         def entered(key: Hashable, succ: list) -> str | None:
             active = interp.states(key[0]).items()  # type: ignore[index]
-            return "entered" if any(_is_state(m, s, state) for m, s in active) else None
+            return "entered" if any(is_state(m, s, state) for m, s in active) else None
 
         hit = search.run(entered)
         if hit is not None:
@@ -382,7 +382,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
     raise NotSupported(f"'{kind}' assertions are not supported by the explicit engine")
 
 
-def _is_state(machine: str, active: str, state: str) -> bool:
+def is_state(machine: str, active: str, state: str) -> bool:
     """Whether machine `machine`, innermost in `active`, is in the state an assertion names: the
     state's path or one of its ancestors', maybe qualified by names ending with the machine's."""
     parts = active.split("::")

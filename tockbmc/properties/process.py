@@ -33,7 +33,6 @@ from tockbmc.properties.spec import (
     Env,
     Evaluator,
     EventSet,
-    ModelProcess,
     Monitor,
     Proc,
     Semantics,
@@ -156,10 +155,6 @@ def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]
     ev.block = d.block
     inner = Env(dict(zip(d.params, args, strict=True)), {}, env.timed or d.timed, env)
     return implementation(ev, d.body, inner, seen | {id(d.body)})
-
-
-def element_of(x: ModelProcess | Implementation) -> str:
-    return x.element if isinstance(x, Implementation) else x.name
 
 
 class Context:
