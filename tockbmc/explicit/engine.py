@@ -23,9 +23,10 @@ from tockbmc.encodings.values import Ranges
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError
-from tockbmc.properties.process import after_termination
+from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, Unenumerable, spec_traces
+from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import NotSupported, Query, query
-from tockbmc.properties.spec import EnumValue, Monitor, TooLarge
+from tockbmc.properties.spec import Channel, EnumValue, Monitor, TooLarge
 
 DEFAULT_MAX_STATES = 1_000_000
 
@@ -251,13 +252,17 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
 
     try:
         q = query(project, a)
-        if q.inclusion is not None:
-            raise NotSupported("the explicit engine does not check that a model has every trace of a "
-                               "specification yet")
         consts = python_settings({**settings, **dict(q.settings),
                                   **{s.constant: s.value for s in a.settings if s.kind == "constant"}})
         interp = Interpreter(q.element, ranges_dict(ranges), consts, dict(q.defined))
         search = Search(interp, q, bound, max_states, deadline)
+        if q.inclusion is not None and q.goals:  # equals: this direction first
+            forward = _decide(a, q, search, result)
+            if forward.verdict != "holds":
+                return forward
+            search = Search(interp, q, bound, max_states, deadline)
+        if q.inclusion is not None:
+            return _included(a, q, search, result)
         return _decide(a, q, search, result)
     except NotSupported as exc:
         return result("unsupported", str(exc))
@@ -268,6 +273,60 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
     except MemoryError:
         return result("unknown", f"stopped at the state limit ({max_states} configurations); the search is not "
                                  "complete")
+
+
+def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:
+    """Every listed trace of the specification is one the element can perform (`properties.inclusion`)."""
+    assert q.inclusion is not None and q.context is not None
+    sem = q.context.sem
+    sem.alphabet = element_alphabet(q.element)
+    channels = [Channel(prefix, arity) for prefix, arity in sem.alphabet] + [Channel(("tock",), 0)]
+    wanted = max(1, min(INCLUSION_LENGTH, search.bound // 2))
+    try:
+        traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
+    except Unenumerable as exc:
+        raise NotSupported(f"the traces of the specification cannot be listed: {exc}") from None
+    if length < wanted:
+        return result("unknown", f"{q.spec_name} has too many traces of {wanted} events")
+    for t in traces:
+        if not _performs(search, t):
+            shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
+                                    f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(t.events))
+            verdict = "holds" if a.negated else "violated"
+            return result(verdict, f"{q.spec_name} has this trace{' and then terminates' if t.ticks else ''}, "
+                                   f"and {q.element.name} cannot perform it", shown)
+    if a.negated:
+        return result("unknown", f"every trace of {q.spec_name} with up to {length} events is one of "
+                                 f"{q.element.name}'s; a bounded search alone gives no verdict")
+    return result("holds", f"every trace of {q.spec_name} with up to {length} events is a trace of "
+                           f"{q.element.name} ({len(traces)} traces listed)")
+
+
+def _performs(search: Search, t: SpecTrace) -> bool:
+    """Whether the element can perform the visible events of t in order (internal steps between),
+    terminating at the end if t does; raises MemoryError past the state limit."""
+    names = [_event_text(e) for e in t.events]
+    start = [((key[0], None), 0) for key in ((c, None) for c in search.interp.initial())]
+    seen = set(start)
+    todo = deque(start)
+    while todo:
+        (config, _), i = todo.popleft()
+        if i == len(names) and (not t.ticks or search.interp.terminated(config)):
+            return True
+        for step, nxt in search.steps((config, None)):
+            if step.kind == "internal":
+                node = (nxt, i)
+            elif i < len(names) and (step.kind == "tock" and names[i] == "tock" or
+                                     step.event is not None and step.event.name == names[i]):
+                node = (nxt, i + 1)
+            else:
+                continue
+            if node not in seen:
+                if len(seen) >= search.max_states:
+                    raise MemoryError
+                seen.add(node)
+                todo.append(node)
+    return False
 
 
 def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:
@@ -290,7 +349,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         return interp.terminated(key[0])  # type: ignore[index]
 
     kind, negated = a.kind, a.negated
-    if kind == "refines":
+    if kind in ("refines", "equals"):
         assert q.context is not None and search.monitor is not None
         context, monitor = q.context, search.monitor
         rests: dict[int, list[str] | None] = {}
