@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tockbmc.explicit.differential import assertions_text, compare, machine_text, random_case
+from tockbmc.explicit.differential import assertions_text, compare, machine_text, network_text, random_case
 
 
 @st.composite
@@ -21,7 +21,8 @@ def cases(draw: st.DrawFn) -> tuple[str, str]:
     def number(lo: int, hi: int) -> int:
         return draw(st.integers(lo, hi))
 
-    rct, states = machine_text(pick, number)
+    make = network_text if draw(st.integers(0, 3)) == 0 else machine_text  # a controller of two machines
+    rct, states = make(pick, number)
     return rct, assertions_text(states, pick)
 
 

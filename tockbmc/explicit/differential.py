@@ -1,9 +1,11 @@
 """Differential testing: random small models, checked by BMC and by the explicit engine.
 
-`machine_text(draw)` writes a random RoboChart state machine (states, a
-composite state, a junction, guards over a small integer, inputs, outputs,
-waits, a clock, a final state) and `compare` checks its assertions with both
-engines and says where they disagree.  Only definite outcomes are compared:
+`machine_text` writes a random RoboChart state machine (states, a composite
+state, a junction, guards over a small integer and a clock, inputs, outputs,
+waits, platform calls, statement and trigger deadlines, a final state) and
+`network_text` a controller of two of them joined by a synchronous or an
+asynchronous connection; `compare` checks the assertions with both engines and
+says where they disagree.  Only definite outcomes are compared:
 a counterexample or witness found, a proof for every length (BMC's
 k-induction), or a search that explored every reachable configuration (the
 explicit engine).  A counterexample found by one engine and ruled out by the
@@ -27,17 +29,18 @@ from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit
 
 RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
-STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)"]
+STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)", "op(x)", "c <{1}"]
 CONDITIONS = ["x > 0", "x == 0", "x < 1", "since(C) >= 1", "since(C) < 2", "x != 1"]
 
 
-def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
-    """A random machine M and the names of its states; `pick(options)` and `number(lo, hi)` choose."""
+def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
+                 name: str = "M") -> tuple[str, list[str]]:
+    """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose."""
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
     composite = number(0, 1) == 1
-    lines = ["stm M {", "  event a : int", "  event b : int", "  event c", "  var x : int = 0", "  clock C",
-             "  initial i"]
+    lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
+             "  var x : int = 0", "  clock C", "  initial i"]
     for s in states:
         entry = f" entry {pick(STATEMENTS)}" if number(0, 1) else ""
         if s == "S0" and composite:
@@ -61,7 +64,7 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
         dst = pick(targets)
         parts = [f"from {src} to {dst}"]
         if src != "J":
-            trigger = pick(["", "a?x", "c", "a.1"])
+            trigger = pick(["", "a?x", "c", "a.1", "c <{1}"])
             if trigger:
                 parts.append(f"trigger {trigger}")
         if number(0, 1) or src == "J":
@@ -72,7 +75,20 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
     if "J" in targets and not any("from J " in line for line in lines):
         lines.append(f"  transition tj {{ from J to {states[0]} }}")
     lines.append("}")
-    return "\n".join(lines) + "\n", states
+    return "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states
+
+
+def network_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
+    """A random controller M of two random machines P and Q: P's output b feeds Q's input a
+    (synchronous or asynchronous), the environment feeds P's a, Q's b is M's output."""
+    p_text, p_states = machine_text(pick, number, "P")
+    q_text, _ = machine_text(pick, number, "Q")
+    q_text = q_text.split("\n", 1)[1]  # one `interface Ops`
+    kind = pick(["", " (_async)"])
+    controller = ("controller M {\n  requires Ops\n  event a : int\n  event b : int\n  sref P = P\n  sref Q = Q\n"
+                  f"  connection M on a to P on a\n  connection P on b to Q on a{kind}\n"
+                  "  connection Q on b to M on b\n}\n")
+    return p_text + q_text + controller, [f"P::{s}" for s in p_states]
 
 
 def assertions_text(states: list[str], pick: Callable[[list], object]) -> str:
@@ -136,5 +152,6 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8)
 
 def random_case(seed: int) -> tuple[str, str]:
     rng = random.Random(seed)
-    rct, states = machine_text(rng.choice, rng.randint)
+    make = network_text if rng.randint(0, 3) == 0 else machine_text
+    rct, states = make(rng.choice, rng.randint)
     return rct, assertions_text(states, rng.choice)
