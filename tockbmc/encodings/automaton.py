@@ -388,6 +388,13 @@ class _Builder:
             nxt = self._location(f"{state}: entering", inside)
             self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),))
             cur = nxt
+        elif node.entry is not None:
+            # The state is entered when its entry action starts (§3 `is reachable`): the entry runs
+            # from a location where the state is already active (no extra step when the step into
+            # `cur` can lead here directly).
+            nxt = self._location(f"{state}: entering", inside)
+            self._goto(cur, nxt)
+            cur = nxt
         if node.entry is not None:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
         return cur
