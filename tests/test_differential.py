@@ -26,7 +26,7 @@ def cases(draw: st.DrawFn) -> tuple[str, str]:
     return rct, assertions_text(states, pick)
 
 
-@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(cases())
 def test_engines_agree_on_random_machines(case: tuple[str, str]) -> None:
     rct, assertions = case
