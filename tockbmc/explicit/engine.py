@@ -17,6 +17,7 @@ from collections import deque
 from collections.abc import Callable, Hashable, Iterable
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import cast
 
 from tockbmc.bmc.result import Result, TraceStep
 from tockbmc.encodings.values import Ranges
@@ -80,7 +81,7 @@ class Search:
     def steps(self, key: Hashable) -> list[tuple[Step, Hashable]]:
         if key in self.succ:
             return self.succ[key]
-        config, mon = key  # type: ignore[misc]
+        config, mon = cast("tuple[Config, int | None]", key)
         out: list[tuple[Step, Hashable]] = []
         raw = self.interp.steps(config)
         hidden_possible = False
@@ -127,7 +128,7 @@ class Search:
             first = self.monitor.initial
             for e in self.context.impl.head if self.context is not None else ():
                 first = self.monitor.after(first, e)
-        start = [(c, first) for c in self.interp.initial()]
+        start: list[Hashable] = [(c, first) for c in self.interp.initial()]
         todo: deque[Hashable] = deque()
         for key in start:
             if key not in self.depth:
@@ -306,14 +307,16 @@ def _performs(search: Search, t: SpecTrace) -> bool:
     """Whether the element can perform the visible events of t in order (internal steps between),
     terminating at the end if t does; raises MemoryError past the state limit."""
     names = [_event_text(e) for e in t.events]
-    start = [((key[0], None), 0) for key in ((c, None) for c in search.interp.initial())]
+    start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
     seen = set(start)
     todo = deque(start)
     while todo:
-        (config, _), i = todo.popleft()
+        node_key, i = todo.popleft()
+        config = cast("tuple[Config, None]", node_key)[0]
         if i == len(names) and (not t.ticks or search.interp.terminated(config)):
             return True
         for step, nxt in search.steps((config, None)):
+            node: tuple[Hashable, int]
             if step.kind == "internal":
                 node = (nxt, i)
             elif i < len(names) and (step.kind == "tock" and names[i] == "tock" or
@@ -355,7 +358,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         rests: dict[int, list[str] | None] = {}
 
         def after_end(key: Hashable, succ: list) -> str | None:
-            config, state = key  # type: ignore[misc]
+            config, state = cast("tuple[Config, int | None]", key)
             if not interp.terminated(config) or state is None:
                 return None
             if state not in rests:

@@ -33,12 +33,12 @@ class ReplayFailure(Exception):
 class _Inputs(Mapping[tuple, tuple]):
     """The values to offer on input channels: the trace's next event's, and none on any other."""
 
-    def __init__(self, channel: tuple | None, values: tuple):
-        self.channel, self.values = channel, values
+    def __init__(self, channel: tuple | None, given: tuple):
+        self.channel, self.given = channel, given
 
     def __getitem__(self, channel: tuple) -> tuple:
         if channel == self.channel:
-            return self.values
+            return self.given
         raise KeyError(channel)
 
     def __iter__(self) -> Iterator[tuple]:
@@ -58,13 +58,13 @@ def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str,
         if (c, 0) not in seen:
             seen.add((c, 0))
             todo.append((c, 0))
-    best, offered = 0, set()
+    best, offered = 0, set[str]()
     while todo:
         config, i = todo.popleft()
         expected = visible[i] if i < len(visible) else None
         inputs = _Inputs(expected.channel if expected is not None and expected.kind == "event" else None,
                          expected.values if expected is not None else ())
-        steps = interp.steps(config, inputs)
+        steps = interp.steps(config, inputs)  # type: ignore[arg-type]  # a Mapping is enough
         statuses = [_status(context, s) for s in steps]
         hidden_possible = any(st == "hidden" and s.kind == "event" for s, st in zip(steps, statuses, strict=True))
         allowed = [s for s, st in zip(steps, statuses, strict=True)

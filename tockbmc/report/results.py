@@ -38,7 +38,7 @@ def print_results(results: list[Result], console: Console) -> None:
     for col in columns:
         table.add_column(col, justify="left" if col in ("Assertion", "Result") else "right")
     for r in results:
-        row = [r.assertion, Text(r.verdict, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
+        row: list[str | Text] = [r.assertion, Text(r.verdict, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
                str(r.bound) if r.bound is not None else "–", str(len(r.trace)) if r.trace else "–"]
         if explicit:
             row += [f"{r.extra['states']:,}" if "states" in r.extra else "–",
