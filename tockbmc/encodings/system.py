@@ -12,6 +12,7 @@ per scalar is written rather than a frame per move.  Names follow pySMT's
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Protocol
 
@@ -54,6 +55,24 @@ class _Effect:
     post: dict[str, z3.ExprRef]  # scalars the step changes
     chosen: list[z3.ExprRef]  # the values the environment chooses (event inputs)
     side: list[z3.BoolRef]  # function axioms instantiated at the calls this step makes
+
+
+class _Renaming:
+    """A substitution of constants, prepared once and applied to many terms.
+
+    `z3.substitute` re-checks every pair's sorts in Python at each call, which costs more than the
+    substitution itself when the same pairs rename hundreds of terms."""
+
+    def __init__(self, pairs: list[tuple[z3.ExprRef, z3.ExprRef]]):
+        assert all(a.sort().eq(b.sort()) for a, b in pairs)
+        self.size = len(pairs)
+        self.old = (z3.Ast * self.size)(*(a.as_ast() for a, _ in pairs))
+        self.new = (z3.Ast * self.size)(*(b.as_ast() for _, b in pairs))
+        self.keep = pairs  # the arrays hold raw pointers: keep their owners alive
+
+    def __call__(self, term: z3.ExprRef) -> z3.ExprRef:
+        ctx = term.ctx
+        return z3.z3._to_expr_ref(z3.Z3_substitute(ctx.ref(), term.as_ast(), self.size, self.old, self.new), ctx)
 
 
 class Context(Protocol):
@@ -99,6 +118,12 @@ class System:
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
         self._effects: dict[tuple[int, int], _Effect] = {}
+        self._fresh_types: dict[str, ast.Type] = {}
+        self._chosen0: list[str] = []  # names of the values chosen in step 0, in order
+        self._step0: tuple[z3.BoolRef, list[z3.BoolRef]] | None = None  # step 0 and its function axioms
+        self._renamings: dict[int, tuple[int, _Renaming]] = {}
+        self._per_step: dict[tuple[str, int], z3.BoolRef] = {}
+        self._per_step_side: dict[str, list[z3.BoolRef]] = {}
         self._halted: dict[int, z3.BoolRef] = {}
         self._side_seen: set[int] = set()
         self._declare()
@@ -264,6 +289,9 @@ class System:
         """A value chosen during step i (an input, a wait length), created once."""
         key = f"{name}@{i}"
         if key not in self.fresh_values:
+            if i == 0:
+                self._fresh_types[name] = t
+                self._chosen0.append(name)
             self.fresh_values[key] = fresh(f"{self.tag}{key}", t)
         return self.fresh_values[key]
 
@@ -403,11 +431,39 @@ class System:
         """What taking move m at step i requires and changes."""
         key = (m.index, i)
         if key not in self._effects:
-            before = len(self.side)
-            eff = self._effect(m, i)
-            eff.side = self.side[before:]
+            if i == 0:
+                before = len(self.side)
+                eff = self._effect(m, i)
+                eff.side = self.side[before:]
+            else:  # step 0's, renamed: building terms in Python costs far more than Z3's substitution
+                template, rename = self.effect(m, 0), self._renaming(i)
+                eff = _Effect([self._rename(c, rename) for c in template.enabled],
+                              [self._rename(c, rename) for c in template.choose],
+                              {n: self._rename(t, rename) for n, t in template.post.items()},
+                              [self._rename(c, rename) for c in template.chosen],
+                              [self._rename(c, rename) for c in template.side])
+                self.side += eff.side
             self._effects[key] = eff
         return self._effects[key]
+
+    def _renaming(self, i: int) -> _Renaming:
+        """What turns a formula about step 0 (configurations 0 and 1, the values chosen in step 0)
+        into the same formula about step i."""
+        known = len(self._chosen0)  # a value first chosen in step 0 after the last call is renamed too
+        if i not in self._renamings or self._renamings[i][0] != known:
+            pairs: list[tuple[z3.ExprRef, z3.ExprRef]] = [(self.action(0), self.action(i))]
+            for k in (0, 1):
+                old, new = self.frame(k), self.frame(i + k)
+                pairs += [(old[n], new[n]) for n in self.sorts]
+            for name in self._chosen0[:known]:
+                pairs += zip((term for _, term in leaves(self.fresh_values[f"{name}@0"])),
+                             (term for _, term in leaves(self.chosen(name, self._fresh_types[name], i))))
+            self._renamings[i] = known, _Renaming(pairs)
+        return self._renamings[i][1]
+
+    @staticmethod
+    def _rename(term: z3.ExprRef, renaming: _Renaming) -> z3.ExprRef:
+        return renaming(term)
 
     def _effect(self, m: Move, i: int) -> _Effect:
         if m.role == "tock":
@@ -521,16 +577,39 @@ class System:
             return z3.Exists(eff.chosen, z3.And(eff.enabled + eff.choose))
         return z3.And(eff.enabled)
 
+    def at_step(self, what: str, i: int, build: Callable[[int], z3.BoolRef]) -> z3.BoolRef:
+        """`build(i)`, made once for step 0 and renamed for the others (see `effect`)."""
+        key = (what, i)
+        if key not in self._per_step:
+            if i == 0:
+                before = len(self.side)
+                self._per_step[key] = build(0)
+                self._per_step_side[what] = self.side[before:]
+            else:
+                term, renaming = self.at_step(what, 0, build), self._renaming(i)
+                self._per_step[key] = renaming(term)  # type: ignore[assignment]
+                self.side += [renaming(c) for c in self._per_step_side[what]]  # type: ignore[misc]
+        return self._per_step[key]
+
     def event_offered(self, i: int) -> z3.BoolRef:
         """Some visible event other than tock is possible at step i."""
-        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "event"] or [z3.BoolVal(False)])
+        return self.at_step("event", i, self._event_offered)
 
     def internal_enabled(self, i: int) -> z3.BoolRef:
         """Some internal step is possible at step i (internal steps choose no values)."""
-        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "internal"] or [z3.BoolVal(False)])
+        return self.at_step("internal", i, self._internal_enabled)
 
     def tock_enabled(self, i: int) -> z3.BoolRef:
         """Time may pass at step i: maximal progress, urgent calls, deadlines, termination (§2.1)."""
+        return self.at_step("tock", i, self._tock_enabled)
+
+    def _event_offered(self, i: int) -> z3.BoolRef:
+        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "event"] or [z3.BoolVal(False)])
+
+    def _internal_enabled(self, i: int) -> z3.BoolRef:
+        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "internal"] or [z3.BoolVal(False)])
+
+    def _tock_enabled(self, i: int) -> z3.BoolRef:
         cs = [z3.Not(self.halted(i)), z3.Not(self.internal_enabled(i))]
         f = self.frame(i)
         for c, comp in enumerate(self.components):
@@ -569,6 +648,21 @@ class System:
 
     def step(self, i: int) -> z3.BoolRef:
         """One step from i to i + 1: the move that `act@i` names."""
+        if self._step0 is None:
+            before = len(self.side)
+            network = self._network_step(0)
+            sides = [c for m in self.moves for c in self.effect(m, 0).side]
+            self._step0 = network, sides + self.side[before:]
+        network, sides = self._step0
+        if i > 0:
+            rename = self._renaming(i)
+            network = self._rename(network, rename)  # type: ignore[assignment]
+            self.side += [self._rename(c, rename) for c in sides]  # type: ignore[misc]
+        else:
+            self.side += sides
+        return z3.And([network, *(ext.step(self, i) for ext in self.extensions)])
+
+    def _network_step(self, i: int) -> z3.BoolRef:
         s, t = self.frame(i), self.frame(i + 1)
         act = self.action(i)
         cs = [act >= 0, act <= self.TOCK]
@@ -587,7 +681,6 @@ class System:
             for taken, term in changes.get(name, []):
                 new = z3.If(taken, term, new)
             cs.append(t[name] == new)
-        cs += [ext.step(self, i) for ext in self.extensions]
         return z3.And(cs)
 
     def side_constraints(self) -> list[z3.BoolRef]:
