@@ -128,8 +128,12 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
               help="Symbolic BMC in Z3, or breadth-first search over concrete configurations (finite ranges).")
 @click.option("--max-states", type=click.IntRange(1), default=1_000_000, show_default=True,
               help="With --engine explicit: configurations explored before giving up with 'unknown'.")
+@click.option("--shortest", type=click.Choice(["steps", "events"]), default="steps", show_default=True,
+              help="BMC's counterexamples: fewest steps (found first), or fewest events and tocks within the "
+                   "bound (searches on to the bound; slower). The explicit engine's always have fewest events.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
-          set_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str, max_states: int) -> None:
+          set_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str, max_states: int,
+          shortest: str) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -152,7 +156,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
-        results = run_check(project, names or None, bound, ranges, settings, timeout)
+        results = run_check(project, names or None, bound, ranges, settings, timeout, shortest=shortest)
     if fmt == "json":
         click.echo(json.dumps(results_json(results, __version__), indent=2))
     else:

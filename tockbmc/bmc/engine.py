@@ -2,7 +2,17 @@
 
 BMC keeps one solver and only ever extends the unrolling: at each depth k the
 target is asked under an activation literal, so the first satisfiable depth
-gives a shortest counterexample; the step k → k+1 is then added for good.
+gives a counterexample of fewest steps; the step k → k+1 is then added for good.
+
+A user reads the visible events (and `tock`s) of a trace, and a run of fewest
+steps may have more of them than a longer run with more internal steps.  With
+`fewest_visible`, once a counterexample is found the search goes on to the
+bound asking for one with fewer visible steps: the trace returned has the
+fewest visible steps of all runs within the bound.  The explicit engine's
+counterexamples are shortest in that sense, which is what the differential
+tests compare.  It is not the default: unrolling to the bound after the first
+counterexample multiplies the time of a violation (2 s to 41 s for the
+paper's tables).
 
 After depth k is cleared, k-induction tries to show that no depth can reach
 the target: a second solver asks for a loop-free path of k + 1 non-target
@@ -78,7 +88,7 @@ class _Induction:
 
 
 def bmc(system: System, target: Target, bound: int, timeout: float | None = None,
-        induction: Callable[[], System] | None = None) -> Outcome:
+        induction: Callable[[], System] | None = None, fewest_visible: bool = False) -> Outcome:
     """Search runs of up to `bound` steps for one that reaches `target`.
 
     `induction`, when given, makes a fresh system for the k-induction step case.
@@ -99,6 +109,8 @@ def bmc(system: System, target: Target, bound: int, timeout: float | None = None
             solver.set("timeout", max(1, int(left * 1000)))
         result = solver.check(literal)
         if result == z3.sat:
+            if fewest_visible:
+                return _fewest_visible(system, target, bound, solver, k, solver.model(), deadline)
             return Outcome("found", k, solver.model())
         if result == z3.unknown:
             why = solver.reason_unknown()
@@ -112,3 +124,36 @@ def bmc(system: System, target: Target, bound: int, timeout: float | None = None
             solver.add(system.step(k))
             solver.add(system.side_constraints())
     return Outcome("not found", bound)
+
+
+def _visible(system: System, model: z3.ModelRef, depth: int) -> int:
+    return sum(1 for i in range(depth) if z3.is_true(model.eval(system.visible(i), model_completion=True)))
+
+
+def _fewest_visible(system: System, target: Target, bound: int, solver: z3.Solver, k: int,
+                    model: z3.ModelRef, deadline: float | None) -> Outcome:
+    """From a counterexample at depth k, one with the fewest visible steps within `bound`."""
+    best, depth = _visible(system, model, k), k
+    d = k
+    while best > 0 and d <= bound:
+        if deadline is not None:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                break
+            solver.set("timeout", max(1, int(left * 1000)))
+        fewer = z3.Bool(f"fewer@{d}.{best}")
+        count = z3.Sum([z3.If(system.visible(i), 1, 0) for i in range(d)]) if d else z3.IntVal(0)
+        solver.add(z3.Implies(fewer, z3.And(target(system, d), count < best)))
+        solver.add(system.side_constraints())
+        result = solver.check(fewer)
+        if result == z3.sat:
+            model, depth = solver.model(), d
+            best = _visible(system, model, d)
+            continue  # perhaps fewer still at this depth
+        if result == z3.unknown:
+            break  # keep the one found: it is a counterexample, if perhaps not the fewest
+        if d < bound:
+            solver.add(system.step(d))
+            solver.add(system.side_constraints())
+        d += 1
+    return Outcome("found", depth, model)

@@ -591,6 +591,11 @@ class System:
                 self.side += [renaming(c) for c in self._per_step_side[what]]  # type: ignore[misc]
         return self._per_step[key]
 
+    def visible(self, i: int) -> z3.BoolRef:
+        """Step i is a visible event or `tock` (not an internal step)."""
+        act = self.action(i)
+        return z3.Or([act == m.index for m in self.moves if m.kind != "internal"] or [z3.BoolVal(False)])
+
     def event_offered(self, i: int) -> z3.BoolRef:
         """Some visible event other than tock is possible at step i."""
         return self.at_step("event", i, self._event_offered)
