@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from collections.abc import Callable
 from fractions import Fraction
@@ -157,11 +158,15 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
         results = run_check(project, names or None, bound, ranges, settings, timeout, shortest=shortest)
-    if fmt == "json":
-        click.echo(json.dumps(results_json(results, __version__), indent=2))
-    else:
-        width = None if sys.stdout.isatty() else 160
-        print_results(results, Console(width=width, soft_wrap=True))
+    try:
+        if fmt == "json":
+            click.echo(json.dumps(results_json(results, __version__), indent=2))
+        else:
+            width = None if sys.stdout.isatty() else 160
+            print_results(results, _Console(width=width, soft_wrap=True))
+        sys.stdout.flush()
+    except BrokenPipeError:  # `tockbmc check … | head`: the reader left; the verdicts still decide the status
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     counts = summary_counts(results)
     sys.exit(10 if counts["violated"] else 20 if counts["unknown"] or counts["unsupported"] else 0)
 
@@ -213,6 +218,14 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
             sys.exit(EXIT_INTERNAL_ERROR)
 
     return run
+
+
+class _Console(Console):
+    """Rich exits with status 1 when the reader of stdout goes away; the verdicts decide it here."""
+
+    def on_broken_pipe(self) -> None:
+        self.quiet = True
+        raise BrokenPipeError
 
 
 def main() -> None:
