@@ -652,3 +652,18 @@ def test_bare_literal_of_two_enumerations(tmp_path: Path) -> None:
     else:
         (e,) = project.machines[0].variables
         assert isinstance(e.initial, ast.EnumLiteral) and e.initial.enum.qname == "E"
+
+
+def test_warnings_are_printed_with_their_source_line(tmp_path: Path) -> None:
+    """The project keeps its sources, so a warning shows the line and a caret like an error."""
+    from click.testing import CliRunner
+
+    from tockbmc.cli import cli
+
+    write_files(tmp_path, {"a.rct": PACKAGE_P, "b.rct": "import pp::*\nstm M {\n  initial i\n  state s {}\n"
+                           "  transition t0 { from i to s }\n}\n"})
+    assert load(tmp_path).sources
+    result = CliRunner().invoke(cli, ["check", str(tmp_path)])
+    err = result.stderr if hasattr(result, "stderr") else result.output
+    assert "b.rct:1:8: warning: import of unknown package 'pp'" in err
+    assert "import pp::*" in err and "^" in err

@@ -87,7 +87,8 @@ def network_text(pick: Callable[[list], object], number: Callable[[int, int], in
     machine's b is M's output.  The machines' `op(x)` is a platform operation, or one M defines
     (a small graph with a variable, a wait or a guard, and perhaps an output on b)."""
     names = ["P", "Q", "R"][:number(2, 3)]
-    texts, p_states = [], []
+    texts: list[str] = []
+    p_states: list[str] = []
     for k, name in enumerate(names):
         text, states = machine_text(pick, number, name)
         texts.append(text if k == 0 else text.split("\n", 1)[1])  # one `interface Ops`

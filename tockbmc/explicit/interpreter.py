@@ -184,6 +184,10 @@ class Config:
     """A configuration: hashable and immutable; equal configurations compare equal."""
 
     __slots__ = ("machines", "store", "done", "_hash")
+    machines: tuple
+    store: tuple
+    done: bool
+    _hash: int
 
     def __init__(self, machines: tuple, store: tuple, done: bool) -> None:
         object.__setattr__(self, "machines", machines)
@@ -1073,8 +1077,8 @@ class Interpreter:
                     frames[-1] = f._replace(node=beh.initial[target], cont=rest, pend=durs, via=None)
                 elif node.kind == "state" or (node.kind == "final" and node.parent is not None):
                     active = set(beh.ancestors(target))
-                    cont = tuple(("s", self._sid_of(beh.nodes[p].during)) for p in durs
-                                 if p in active and beh.nodes[p].during is not None)
+                    cont = tuple(("s", self._sid_of(d)) for p in durs
+                                 if p in active and (d := beh.nodes[p].during) is not None)
                     frames[-1] = f._replace(node=target, cont=cont + rest, intr=bool(cont), pend=(), via=None,
                                             dls=())
                 else:
@@ -1385,7 +1389,7 @@ class Interpreter:
                     _, port, t, v, (frames, upd) = m
                     link = self.out_link.get((i, port))
                     if link is None or (link.dst is None and not link.asynchronous):
-                        base = link.vis if link is not None else f"{mname}::{port}"
+                        base = link.vis if link is not None and link.vis is not None else f"{mname}::{port}"
                         steps.append(Step("event", self._event(base, "out", t, v),
                                           self._config(config, [(i, frames, upd)])))
                     elif link.asynchronous:

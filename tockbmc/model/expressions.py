@@ -124,7 +124,7 @@ class ExprChecker:
         return method(node, p)
 
     def _x_int_lit(self, node: Tree, p: Pos) -> ast.Expr:
-        return ast.Literal(NAT, p, int(node.children[0]))
+        return ast.Literal(NAT, p, int(str(node.children[0])))
 
     def _x_float_lit(self, node: Tree, p: Pos) -> ast.Expr:
         return ast.Literal(REAL, p, Fraction(str(node.children[0])))

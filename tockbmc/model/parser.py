@@ -63,7 +63,7 @@ def _syntax_error(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
         expected = _expected(exc.expected)
         message = f"syntax error: unexpected {found}" + (f"; expected {expected}" if expected else "")
     elif isinstance(exc, UnexpectedCharacters):
-        message = f"syntax error: unexpected character {text[exc.pos_in_stream]!r}"
+        message = f"syntax error: unexpected character {text[exc.pos_in_stream or 0]!r}"
     elif isinstance(exc, UnexpectedEOF):
         line, column = _end_position(text)
         message = "syntax error: unexpected end of file"

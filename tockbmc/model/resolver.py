@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from lark import Token, Tree
 
@@ -341,11 +341,13 @@ class Resolver:
     # ----------------------------------------------------------------- machines and operations
 
     def machine(self, decl: Declaration) -> ast.StateMachine | None:
-        return self.memo("machine", decl.qname, lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.StateMachine),
+        return self.memo("machine", decl.qname,
+                         lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.StateMachine),  # type: ignore[arg-type, return-value]
                          decl.file.path, name_of(decl.tree))
 
     def operation(self, decl: Declaration) -> ast.OperationDef | None:
-        return self.memo("operation", decl.qname, lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.OperationDef),
+        return self.memo("operation", decl.qname,
+                         lambda: self.behaviour(decl.file, decl.tree, decl.qname, ast.OperationDef),  # type: ignore[arg-type, return-value]
                          decl.file.path, name_of(decl.tree))
 
     def behaviour(self, scope: FileScope, tree: Tree, qname: str, cls: type) -> ast.Behaviour:
@@ -425,7 +427,7 @@ class Resolver:
             if t is not None:
                 transitions.append(t)
         self._check_structure(path, qname, tree, nodes, transitions)
-        fields = dict(qname=qname, pos=pos_of(path, name_of(tree)), variables=tuple(variables),
+        fields: dict[str, Any] = dict(qname=qname, pos=pos_of(path, name_of(tree)), variables=tuple(variables),
                       interface_variables=tuple(iface_vars), events=tuple(events), clocks=tuple(clocks),
                       operations=tuple(operations), nodes=tuple(nodes), transitions=tuple(transitions),
                       required_interfaces=tuple(relations["requires"]),
@@ -631,8 +633,8 @@ class Resolver:
         self._no_duplicates(path, events, qname)
         self._no_duplicates(path, machines, qname)
         ends: dict[str, object] = {decl.qname.rsplit("::", 1)[-1]: "self"}
-        for m in machines:
-            ends[m.name] = m.machine
+        for inst in machines:
+            ends[inst.name] = inst.machine
         own_events = {e.name: e for e in events}
         connections = [c for c in (self.connection(path, item, ends, own_events) for item in children(tree, "connection")) if c]
         self._check_operation_directions(qname, connections, operations)
@@ -660,7 +662,7 @@ class Resolver:
         src_node, src_event, tgt_node, tgt_event = tree.children[:4]
         is_async = bool(children(tree, "async_mark"))
         mult = bool(children(tree, "mult_mark"))
-        resolved = []
+        resolved: list[tuple[str, object, ast.Event] | None] = []
         for end_node, event_token, role in ((src_node, src_event, "source"), (tgt_node, tgt_event, "target")):
             end_name = qname_text(end_node)
             element = ends.get(end_name)
@@ -982,7 +984,14 @@ class Resolver:
         self._scopes = {}
         self._texts = texts
         self.declare()
-        types, interfaces, functions, machines, operations, controllers, platforms, modules = ([] for _ in range(8))
+        types: list = []
+        interfaces: list = []
+        functions: list = []
+        machines: list = []
+        operations: list = []
+        controllers: list = []
+        platforms: list = []
+        modules: list = []
         builders = {
             "primitive_type": (self.type_decl, types), "record_type": (self.type_decl, types),
             "enumeration": (self.type_decl, types), "interface": (self.interface, interfaces),
@@ -1010,7 +1019,7 @@ class Resolver:
         self._no_duplicates_assertions(assertions)
         return ast.Project(root, tuple(p for p, _, _ in self.files), tuple(types), tuple(interfaces), tuple(functions),
                            tuple(machines), tuple(operations), tuple(controllers), tuple(platforms), tuple(modules),
-                           tuple(blocks), tuple(assertions), dict(texts))
+                           tuple(blocks), tuple(assertions), sources=dict(texts))
 
     def _no_duplicates_assertions(self, assertions: list[ast.Assertion]) -> None:
         seen: dict[str, ast.Pos] = {}
