@@ -43,6 +43,9 @@ def main() -> None:
                 continue
             counts["cases"] += 1
             _count(seed, outcomes, counts)
+            if counts["cases"] % 500 == 0:
+                print(f"... {counts['cases']} cases: {counts['agree']} agree, {counts['disagree']} disagree "
+                      f"({time.perf_counter() - start:.0f} s)", flush=True)
     total = counts["agree"] + counts["disagree"]
     print(f"{counts['cases']} cases, {total} definite comparisons: {counts['agree']} agree, "
           f"{counts['disagree']} disagree; {counts['not comparable']} not comparable; "

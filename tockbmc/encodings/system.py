@@ -120,10 +120,11 @@ class System:
         self._effects: dict[tuple[int, int], _Effect] = {}
         self._fresh_types: dict[str, ast.Type] = {}
         self._chosen0: list[str] = []  # names of the values chosen in step 0, in order
-        self._step0: tuple[z3.BoolRef, list[z3.BoolRef]] | None = None  # step 0 and its function axioms
+        self._step0: z3.BoolRef | None = None  # the network's part of step 0
+        self._renamed0: dict[int, int] = {}  # step -> how many of `_sides0` have been renamed to it
         self._renamings: dict[int, tuple[int, _Renaming]] = {}
         self._per_step: dict[tuple[str, int], z3.BoolRef] = {}
-        self._per_step_side: dict[str, list[z3.BoolRef]] = {}
+        self._sides0: list[z3.BoolRef] = []  # function axioms of every formula built for step 0
         self._halted: dict[int, z3.BoolRef] = {}
         self._side_seen: set[int] = set()
         self._declare()
@@ -435,6 +436,7 @@ class System:
                 before = len(self.side)
                 eff = self._effect(m, i)
                 eff.side = self.side[before:]
+                self._sides0 += eff.side
             else:  # step 0's, renamed: building terms in Python costs far more than Z3's substitution
                 template, rename = self.effect(m, 0), self._renaming(i)
                 eff = _Effect([self._rename(c, rename) for c in template.enabled],
@@ -442,7 +444,7 @@ class System:
                               {n: self._rename(t, rename) for n, t in template.post.items()},
                               [self._rename(c, rename) for c in template.chosen],
                               [self._rename(c, rename) for c in template.side])
-                self.side += eff.side
+                self._renamed_sides(i)
             self._effects[key] = eff
         return self._effects[key]
 
@@ -460,6 +462,17 @@ class System:
                              (term for _, term in leaves(self.chosen(name, self._fresh_types[name], i))))
             self._renamings[i] = known, _Renaming(pairs)
         return self._renamings[i][1]
+
+    def _renamed_sides(self, i: int) -> None:
+        """The function axioms of the step-0 formulas, renamed to step i (some formula renamed to
+        step i may contain calls whose axioms were made while building another: all go, and
+        `side_constraints` drops repeats).  Instances of a function's axiom at more arguments than
+        needed are still true of the function, so this is sound."""
+        done = self._renamed0.get(i, 0)
+        if done < len(self._sides0):
+            rename = self._renaming(i)
+            self.side += [rename(c) for c in self._sides0[done:]]  # type: ignore[misc]
+            self._renamed0[i] = len(self._sides0)
 
     @staticmethod
     def _rename(term: z3.ExprRef, renaming: _Renaming) -> z3.ExprRef:
@@ -584,17 +597,18 @@ class System:
             if i == 0:
                 before = len(self.side)
                 self._per_step[key] = build(0)
-                self._per_step_side[what] = self.side[before:]
+                self._sides0 += self.side[before:]
             else:
                 term, renaming = self.at_step(what, 0, build), self._renaming(i)
                 self._per_step[key] = renaming(term)  # type: ignore[assignment]
-                self.side += [renaming(c) for c in self._per_step_side[what]]  # type: ignore[misc]
+                self._renamed_sides(i)
         return self._per_step[key]
 
     def visible(self, i: int) -> z3.BoolRef:
-        """Step i is a visible event or `tock` (not an internal step)."""
+        """Step i is a visible event or `tock` (not an internal step, nor a hidden `tock`)."""
         act = self.action(i)
-        return z3.Or([act == m.index for m in self.moves if m.kind != "internal"] or [z3.BoolVal(False)])
+        shown = [m for m in self.moves if m.kind != "internal" and not (m.kind == "tock" and self.tock_hidden)]
+        return z3.Or([act == m.index for m in shown] or [z3.BoolVal(False)])
 
     def event_offered(self, i: int) -> z3.BoolRef:
         """Some visible event other than tock is possible at step i."""
@@ -655,16 +669,14 @@ class System:
         """One step from i to i + 1: the move that `act@i` names."""
         if self._step0 is None:
             before = len(self.side)
-            network = self._network_step(0)
-            sides = [c for m in self.moves for c in self.effect(m, 0).side]
-            self._step0 = network, sides + self.side[before:]
-        network, sides = self._step0
+            self._step0 = self._network_step(0)
+            self._sides0 += self.side[before:]
+        network = self._step0
         if i > 0:
-            rename = self._renaming(i)
-            network = self._rename(network, rename)  # type: ignore[assignment]
-            self.side += [self._rename(c, rename) for c in sides]  # type: ignore[misc]
+            network = self._rename(network, self._renaming(i))  # type: ignore[assignment]
+            self._renamed_sides(i)
         else:
-            self.side += sides
+            self.side += self._sides0
         return z3.And([network, *(ext.step(self, i) for ext in self.extensions)])
 
     def _network_step(self, i: int) -> z3.BoolRef:

@@ -156,7 +156,9 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8)
     fewest; BMC's have the fewest steps, internal ones included, so when the counts differ BMC is
     asked again for the fewest visible steps (`shortest="events"`), and if the explicit engine's still
     has fewer, with thrice the bound (BMC's internal steps count towards its bound) before it counts
-    as a disagreement.
+    as a disagreement.  Two exceptions, where the engines differ by design: deadlocks of different
+    kinds (each engine tries the kinds in its own order) are not compared by length, and a time-only
+    deadlock may be shown by BMC after a few more tocks (`_only_tocks_after`).
     """
     with tempfile.TemporaryDirectory() as d:
         (Path(d) / "m.rct").write_text(rct)
@@ -171,21 +173,46 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8)
             if db is None or de is None or "unsupported" in (b.verdict, e.verdict):
                 out.append(Outcome(name, b.verdict, e.verdict, None))
                 continue
-            same = b.verdict == e.verdict
+            same: bool | None = b.verdict == e.verdict
             note = ""
             if same and db.startswith("found") and de.startswith("found"):
-                vb, ve = _visible(b), _visible(e)
-                for k in (bound, 3 * bound):
-                    if vb <= ve:
-                        break
-                    b = check(project, [name], bound=k, ranges=RANGES, timeout=20, shortest="events")[0]
-                    vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
-                if vb > ve and _only_tocks_after(b, ve) and "nothing but tock" in (b.reason or ""):
-                    note = f"time-only deadlock: bmc shows it {vb - ve} tock(s) later"
-                elif vb != ve:
-                    same, note = False, f"visible lengths {vb} (bmc) and {ve} (explicit)"
+                same, note = _same_length(project, name, b, e, bound)
             out.append(Outcome(name, b.verdict, e.verdict, same, note))
     return out
+
+
+def _same_length(project: object, name: str, b: tockbmc.Result, e: tockbmc.Result,  # type: ignore[name-defined]
+                 bound: int) -> tuple[bool | None, str]:
+    """Whether two counterexamples of one verdict have as many visible steps (None: not comparable)."""
+    kinds = _deadlock_kind(b), _deadlock_kind(e)
+    if kinds[0] != kinds[1]:
+        # Both engines find a deadlock, each by its own order of kinds (BMC: refusal or time only,
+        # then divergence; the explicit engine: refusal, then time only, then divergence).  Refusals
+        # alone are compared, lengths included, by `terminates`, whose violation is exactly one.
+        return True, f"deadlocks of different kinds ({kinds[0]}, {kinds[1]}): lengths not compared"
+    vb, ve = _visible(b), _visible(e)
+    note = ""
+    for k in (bound, 3 * bound):
+        if vb <= ve:
+            break
+        b = check(project, [name], bound=k, ranges=RANGES, timeout=20, shortest="events")[0]  # type: ignore[arg-type]
+        if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1]:
+            return None, f"BMC asked for the fewest visible steps within {k} steps: {b.verdict}, {b.reason}"
+        vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
+    if vb > ve and kinds == ("time only", "time only") and _only_tocks_after(b, ve):
+        return True, f"time-only deadlock: bmc shows it {vb - ve} tock(s) later"
+    if vb != ve:
+        return False, f"visible lengths {vb} (bmc) and {ve} (explicit)"
+    return True, note
+
+
+def _deadlock_kind(r: tockbmc.Result) -> str | None:  # type: ignore[name-defined]
+    why = r.reason or ""
+    for phrase, kind in (("refuses every event", "refusal"), ("nothing but tock", "time only"),
+                         ("divergence", "divergence")):
+        if phrase in why:
+            return kind
+    return None
 
 
 def _visible(r: tockbmc.Result) -> int:  # type: ignore[name-defined]

@@ -23,13 +23,16 @@ def _nothing_ever(system: System, k: int) -> z3.BoolRef:
     return system.at_step("nothing ever", k, lambda i: _without_quantifier(_nothing_ever_at(system, i)))
 
 
+QE_MS = 2000  # milliseconds for eliminating the quantifier of one time-only formula
+
+
 def _without_quantifier(formula: z3.BoolRef) -> z3.BoolRef:
     """An equivalent quantifier-free formula when Z3's elimination finds one (linear guards on
     clocks), which every later check then solves without quantifier instantiation; else `formula`."""
     goal = z3.Goal()
     goal.add(formula)
     try:
-        result = z3.Tactic("qe")(goal)
+        result = z3.TryFor(z3.Tactic("qe"), QE_MS)(goal)  # past it, the quantified formula
     except z3.Z3Exception:
         return formula
     if len(result) != 1:
