@@ -1,10 +1,12 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
-Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2]
-Each case is a random state machine (tockbmc/explicit/differential.py) with seven assertions of
-the supported forms, checked with core_int=-1..1 by BMC (bound 16) and by the explicit engine
-(8 visible steps).  Definite outcomes are compared (see that module); every disagreement is
-printed with its seed, so that `random_case(seed)` reproduces it.
+Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
+Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
+(tockbmc/explicit/differential.py), with seven assertions of the supported forms, checked with
+core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
+`--timeout` seconds per assertion.  Definite outcomes are compared, counterexample lengths
+included (see that module); every disagreement is printed with its seed, so that
+`random_case(seed)` reproduces it.
 """
 
 from __future__ import annotations
@@ -18,10 +20,11 @@ import tockbmc
 from tockbmc.explicit.differential import compare, random_case
 
 
-def run(seed: int) -> tuple[int, list | None]:
-    rct, assertions = random_case(seed)
+def run(job: tuple[int, float, float]) -> tuple[int, list | None]:
+    seed, timeout, controllers = job  # past the timeout an outcome is unknown, so not comparable
+    rct, assertions = random_case(seed, controllers)
     try:
-        return seed, compare(rct, assertions)
+        return seed, compare(rct, assertions, timeout=timeout)
     except tockbmc.ModelError:
         return seed, None
 
@@ -31,10 +34,14 @@ def main() -> None:
     parser.add_argument("--cases", type=int, default=1000)
     parser.add_argument("--seed", type=int, default=0, help="seed of the first case")
     parser.add_argument("--jobs", type=int, default=1, help="processes to run cases in")
+    parser.add_argument("--timeout", type=float, default=5.0, help="seconds per assertion and engine")
+    parser.add_argument("--controllers", type=float, default=0.25,
+                        help="the share of cases that are controllers of two or three machines (each costs "
+                             "about five machines)")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
-    seeds = range(args.seed, args.seed + args.cases)
+    seeds = [(seed, args.timeout, args.controllers) for seed in range(args.seed, args.seed + args.cases)]
     with multiprocessing.Pool(args.jobs) as pool:
         done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)
         for seed, outcomes in done:
