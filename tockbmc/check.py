@@ -81,10 +81,15 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
                 if isinstance(system.extension, MonitorExtension):
                     trace = system.extension.around(system, outcome.model, outcome.depth, trace)
                 why = goal.describe(system, outcome.model, outcome.depth)
+                if outcome.reason:
+                    why = f"{why} ({outcome.reason})"
                 if goal.found == "holds" and reasons:  # earlier goals found nothing wrong
                     why = "; ".join([*reasons, f"witness: {why}"])
                 replayed = replay_trace(q, a, goal, trace, initial_choices(system, outcome.model), ranges, consts)
-                return result(goal.found, why, trace=trace, extra={"replayed": replayed})
+                extra = {"replayed": replayed}
+                if outcome.reason:  # `shortest="events"` could not finish
+                    extra["shortest"] = outcome.reason
+                return result(goal.found, why, trace=trace, extra=extra)
             if outcome.status == "proved":
                 verdict = goal.unreachable
                 why = (f"{goal.claim}, shown for runs of every length, not only up to {bound} steps "

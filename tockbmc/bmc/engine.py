@@ -135,10 +135,12 @@ def _fewest_visible(system: System, target: Target, bound: int, solver: z3.Solve
     """From a counterexample at depth k, one with the fewest visible steps within `bound`."""
     best, depth = _visible(system, model, k), k
     d = k
+    unfinished = None  # why the trace may not have the fewest visible steps
     while best > 0 and d <= bound:
         if deadline is not None:
             left = deadline - time.monotonic()
             if left <= 0:
+                unfinished = f"fewer visible steps were searched for up to depth {d - 1} only (timed out)"
                 break
             solver.set("timeout", max(1, int(left * 1000)))
         fewer = z3.Bool(f"fewer@{d}.{best}")
@@ -150,10 +152,11 @@ def _fewest_visible(system: System, target: Target, bound: int, solver: z3.Solve
             model, depth = solver.model(), d
             best = _visible(system, model, d)
             continue  # perhaps fewer still at this depth
-        if result == z3.unknown:
-            break  # keep the one found: it is a counterexample, if perhaps not the fewest
+        if result == z3.unknown:  # keep the one found: a counterexample, if perhaps not the fewest
+            unfinished = f"fewer visible steps were searched for up to depth {d - 1} only ({solver.reason_unknown()})"
+            break
         if d < bound:
             solver.add(system.step(d))
             solver.add(system.side_constraints())
         d += 1
-    return Outcome("found", depth, model)
+    return Outcome("found", depth, model, unfinished)

@@ -196,7 +196,7 @@ def _same_length(project: object, name: str, b: tockbmc.Result, e: tockbmc.Resul
         if vb <= ve:
             break
         b = check(project, [name], bound=k, ranges=RANGES, timeout=timeout, shortest="events")[0]  # type: ignore[arg-type]
-        if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1]:
+        if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1] or "shortest" in b.extra:
             return None, f"BMC asked for the fewest visible steps within {k} steps: {b.verdict}, {b.reason}"
         vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
     # A time-only deadlock is a configuration from which only tock is ever possible.  The explicit
