@@ -29,7 +29,7 @@ def cases(draw: st.DrawFn, make: Callable) -> tuple[str, str]:
     return rct, assertions_text(states, pick)
 
 
-# Machines cost about 0.5 s a case, controllers of two or three machines about 3 s: 130 + 20 keep the
+# Machines cost about 0.5 s a case, controllers of two or three machines about 3 s: 100 + 15 keep the
 # default run short; TOCKBMC_DIFF_CASES=N runs N of each (`benchmarks/differential.py` runs more).
 CASES = os.environ.get("TOCKBMC_DIFF_CASES")
 
@@ -38,7 +38,7 @@ def _settings(default: int) -> settings:
     return settings(max_examples=int(CASES or default), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-@_settings(130)
+@_settings(100)
 @given(cases(machine_text))
 def test_engines_agree_on_random_machines(case: tuple[str, str]) -> None:
     rct, assertions = case
@@ -46,7 +46,7 @@ def test_engines_agree_on_random_machines(case: tuple[str, str]) -> None:
     assert not wrong, (rct, wrong)
 
 
-@_settings(20)
+@_settings(15)
 @given(cases(network_text))
 def test_engines_agree_on_random_controllers(case: tuple[str, str]) -> None:
     rct, assertions = case
