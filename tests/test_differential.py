@@ -41,15 +41,16 @@ def _settings(default: int) -> settings:
 @_settings(100)
 @given(cases(machine_text))
 def test_engines_agree_on_random_machines(case: tuple[str, str]) -> None:
-    rct, assertions = case
-    wrong = [o for o in compare(rct, assertions) if o.agree is False]
-    assert not wrong, (rct, wrong)
+    _agree(*case)
 
 
 @_settings(15)
 @given(cases(network_text))
 def test_engines_agree_on_random_controllers(case: tuple[str, str]) -> None:
-    rct, assertions = case
+    _agree(*case)
+
+
+def _agree(rct: str, assertions: str) -> None:
     wrong = [o for o in compare(rct, assertions) if o.agree is False]
     assert not wrong, (rct, wrong)
 
@@ -63,5 +64,4 @@ FORMER = Path(__file__).parent / "differential_cases"
 
 @pytest.mark.parametrize("case", sorted(p.stem for p in FORMER.glob("*.rct")))
 def test_former_disagreements(case: str) -> None:
-    rct, assertions = (FORMER / f"{case}.rct").read_text(), (FORMER / f"{case}.assertions").read_text()
-    assert not [o for o in compare(rct, assertions) if o.agree is False]
+    _agree((FORMER / f"{case}.rct").read_text(), (FORMER / f"{case}.assertions").read_text())

@@ -118,9 +118,7 @@ class System:
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
         self._effects: dict[tuple[int, int], _Effect] = {}
-        self._fresh_types: dict[str, ast.Type] = {}
-        self._chosen0: list[str] = []  # names of the values chosen in step 0, in order
-        self._step0: z3.BoolRef | None = None  # the network's part of step 0
+        self._chosen0: list[tuple[str, ast.Type]] = []  # the values chosen in step 0, in order
         self._renamed0: dict[int, int] = {}  # step -> how many of `_sides0` have been renamed to it
         self._renamings: dict[int, tuple[int, _Renaming]] = {}
         self._per_step: dict[tuple[str, int], z3.BoolRef] = {}
@@ -291,8 +289,7 @@ class System:
         key = f"{name}@{i}"
         if key not in self.fresh_values:
             if i == 0:
-                self._fresh_types[name] = t
-                self._chosen0.append(name)
+                self._chosen0.append((name, t))
             self.fresh_values[key] = fresh(f"{self.tag}{key}", t)
         return self.fresh_values[key]
 
@@ -439,11 +436,11 @@ class System:
                 self._sides0 += eff.side
             else:  # step 0's, renamed: building terms in Python costs far more than Z3's substitution
                 template, rename = self.effect(m, 0), self._renaming(i)
-                eff = _Effect([self._rename(c, rename) for c in template.enabled],
-                              [self._rename(c, rename) for c in template.choose],
-                              {n: self._rename(t, rename) for n, t in template.post.items()},
-                              [self._rename(c, rename) for c in template.chosen],
-                              [self._rename(c, rename) for c in template.side])
+                eff = _Effect([rename(c) for c in template.enabled],
+                              [rename(c) for c in template.choose],
+                              {n: rename(t) for n, t in template.post.items()},
+                              [rename(c) for c in template.chosen],
+                              [rename(c) for c in template.side])
                 self._renamed_sides(i)
             self._effects[key] = eff
         return self._effects[key]
@@ -457,9 +454,9 @@ class System:
             for k in (0, 1):
                 old, new = self.frame(k), self.frame(i + k)
                 pairs += [(old[n], new[n]) for n in self.sorts]
-            for name in self._chosen0[:known]:
+            for name, t in self._chosen0[:known]:
                 pairs += zip((term for _, term in leaves(self.fresh_values[f"{name}@0"])),
-                             (term for _, term in leaves(self.chosen(name, self._fresh_types[name], i))))
+                             (term for _, term in leaves(self.chosen(name, t, i))))
             self._renamings[i] = known, _Renaming(pairs)
         return self._renamings[i][1]
 
@@ -473,10 +470,6 @@ class System:
             rename = self._renaming(i)
             self.side += [rename(c) for c in self._sides0[done:]]  # type: ignore[misc]
             self._renamed0[i] = len(self._sides0)
-
-    @staticmethod
-    def _rename(term: z3.ExprRef, renaming: _Renaming) -> z3.ExprRef:
-        return renaming(term)
 
     def _effect(self, m: Move, i: int) -> _Effect:
         if m.role == "tock":
@@ -667,17 +660,7 @@ class System:
 
     def step(self, i: int) -> z3.BoolRef:
         """One step from i to i + 1: the move that `act@i` names."""
-        if self._step0 is None:
-            before = len(self.side)
-            self._step0 = self._network_step(0)
-            self._sides0 += self.side[before:]
-        network = self._step0
-        if i > 0:
-            network = self._rename(network, self._renaming(i))  # type: ignore[assignment]
-            self._renamed_sides(i)
-        else:
-            self.side += self._sides0
-        return z3.And([network, *(ext.step(self, i) for ext in self.extensions)])
+        return z3.And([self.at_step("step", i, self._network_step), *(ext.step(self, i) for ext in self.extensions)])
 
     def _network_step(self, i: int) -> z3.BoolRef:
         s, t = self.frame(i), self.frame(i + 1)
