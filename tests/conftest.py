@@ -24,6 +24,7 @@ SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 CONFORMANCE = SHARED / "conformance" / "robochart-tests"
 EXAMPLE = REPO / "examples" / "intelliwelder"
 GENERATOR = REPO / "benchmarks" / "generate.py"
+DIFFERENTIAL = REPO / "benchmarks" / "differential_cases.py"
 
 
 @pytest.fixture(scope="session")
@@ -52,10 +53,18 @@ def write_files(directory: Path, files: dict[str, str]) -> Path:
 
 def load_generator() -> ModuleType:
     """`benchmarks/generate.py`, imported by path (benchmarks/ is not a package)."""
-    name = "tockbmc_benchmarks_generate"
+    return _load_benchmark("tockbmc_benchmarks_generate", GENERATOR)
+
+
+def load_differential() -> ModuleType:
+    """`benchmarks/differential_cases.py`: the random machines that BMC and the explicit engine both check."""
+    return _load_benchmark("tockbmc_benchmarks_differential_cases", DIFFERENTIAL)
+
+
+def _load_benchmark(name: str, path: Path) -> ModuleType:
     if name in sys.modules:
         return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, GENERATOR)
+    spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module

@@ -70,7 +70,7 @@ def test_cli_json_and_exit_status() -> None:
     assert result.exit_code == 10, result.output
     data = json.loads(result.output)
     [r] = data["results"]
-    assert r["verdict"] == "violated" and r["engine"] == "bmc" and r["proof"] == "bounded" and r["bound"] == 40
+    assert r["verdict"] == "violated" and r["engine"] == "bmc" and r["proof"] == "trace" and r["bound"] == 40 and r["depth"] == len(r["trace"])
     assert [s["event"] for s in r["trace"] if s["kind"] == "event"][-1] == "EXAX::terminate"
     assert data["summary"]["violated"] == 1
 

@@ -27,9 +27,9 @@ import pytest
 from conftest import write_files
 
 import tockbmc
-from tockbmc.bmc.result import Result
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
+from tockbmc.model.result import Result
 
 MINUS1_1 = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 

@@ -1,6 +1,6 @@
 """BMC and the explicit engine agree on random small machines (Hypothesis).
 
-`tockbmc/explicit/differential.py` writes the machines and compares definite outcomes;
+`benchmarks/differential_cases.py` writes the machines and compares definite outcomes;
 `benchmarks/differential.py --cases N` runs many more and prints the counts.
 """
 
@@ -11,10 +11,13 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from conftest import load_differential
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tockbmc.explicit.differential import assertions_text, compare, machine_text, network_text
+_cases = load_differential()
+assertions_text, compare, machine_text, network_text = (
+    _cases.assertions_text, _cases.compare, _cases.machine_text, _cases.network_text)
 
 
 @st.composite

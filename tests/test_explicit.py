@@ -17,6 +17,7 @@ from conftest import CONFORMANCE, EXAMPLE
 from test_conformance_check import ROBOTOOL_RANGES, results
 
 from tockbmc import ModelError, load
+from tockbmc.bmc.witness import initial_choices
 from tockbmc.check import check
 from tockbmc.cli import cli
 from tockbmc.encodings.values import Range, Ranges
@@ -24,7 +25,6 @@ from tockbmc.explicit.engine import check_explicit, python_settings, ranges_dict
 from tockbmc.explicit.interpreter import Interpreter
 from tockbmc.explicit.replay import ReplayFailure, replay
 from tockbmc.properties.queries import query
-from tockbmc.report.trace import initial_choices
 
 REALISTIC = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_real": Range(Fraction(-1), Fraction(1)),
                     "core_nat": Range(Fraction(0), Fraction(3))})

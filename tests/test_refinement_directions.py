@@ -17,8 +17,8 @@ from pathlib import Path
 from conftest import write_files
 
 import tockbmc
-from tockbmc.bmc.result import Result
 from tockbmc.check import check
+from tockbmc.model.result import Result
 
 MODEL = """
 stm M {

@@ -1,22 +1,29 @@
-"""`check`: decide the assertions of a loaded project (the API behind `tockbmc check`)."""
+"""`check`: decide the assertions of a loaded project (the API behind `tockbmc check`).
+
+Each assertion is a `Query` (`properties.queries`): its goals are searched in
+order by BMC with k-induction (`bmc.engine`), and a specification on the model's
+right is followed trace by trace (`bmc.inclusion`).  Every counterexample is
+replayed by the independent interpreter (`explicit.replay`) before it is returned.
+"""
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
 
-from tockbmc.bmc.engine import bmc
-from tockbmc.bmc.result import Result
-from tockbmc.encodings.automaton import Unsupported
-from tockbmc.encodings.composition import network_of
-from tockbmc.encodings.system import System, check_encodable
-from tockbmc.encodings.values import Ranges
+from tockbmc.bmc.engine import Outcome, Status, bmc
+from tockbmc.bmc.inclusion import included
+from tockbmc.bmc.witness import decode, initial_choices
+from tockbmc.encodings.composition import Network, network_of
+from tockbmc.encodings.system import TransitionSystem, check_encodable
 from tockbmc.model import ast
-from tockbmc.model.csp import CspError
-from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
+from tockbmc.model.errors import Unsupported
+from tockbmc.model.ranges import Ranges
+from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
+from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
-from tockbmc.properties.queries import Goal, NotSupported, Query, query
-from tockbmc.report.trace import decode, initial_choices
+from tockbmc.properties.queries import query
 
 DEFAULT_BOUND = 40
 
@@ -37,98 +44,135 @@ def check(project: ast.Project, names: Iterable[str] | None = None, bound: int =
             for a in project.assertions if wanted is None or a.name in wanted]
 
 
+class _Check:
+    """The search for one assertion's verdict, and the `Result` it gives."""
+
+    def __init__(self, a: ast.Assertion, bound: int, ranges: Ranges, settings: dict[str, ast.Expr],
+                 timeout: float | None, induction: bool, shortest: str):
+        self.a, self.bound, self.ranges, self.timeout = a, bound, ranges, timeout
+        self.induction, self.shortest = induction, shortest
+        self.settings = settings
+        self.start = time.perf_counter()
+        self.reasons: list[str] = []  # what the goals searched so far have shown
+        self.proof = Proof.K_INDUCTION  # of a "holds": weakened to BOUNDED by the first goal shown only to the bound
+        self.depth: int | None = None  # the deepest depth a k-induction proof needed
+
+    def time_left(self) -> float | None:
+        return None if self.timeout is None else max(0.001, self.timeout - (time.perf_counter() - self.start))
+
+    def result(self, verdict: Verdict, reason: str | None, *, proof: Proof, depth: int | None,
+               trace: tuple[TraceStep, ...] = (), extra: dict | None = None) -> Result:
+        return Result(assertion=self.a.name, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
+                      ranges=self.ranges.describe(), seconds=time.perf_counter() - self.start, reason=reason,
+                      trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {})
+
+    def unsupported(self, exc: Unsupported) -> Result:
+        return Result(assertion=self.a.name, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
+                      ranges=self.ranges.describe(), seconds=time.perf_counter() - self.start, reason=exc.reason,
+                      proof=Proof.NONE, pos=str(self.a.pos))
+
+    def run(self, project: ast.Project) -> Result:
+        try:
+            q = query(project, self.a)
+            network = network_of(q.element, dict(q.defined))
+            check_encodable(network)
+            consts = {**self.settings, **dict(q.settings),
+                      **{s.constant: s.value for s in self.a.settings if s.kind == "constant"}}
+            for goal in q.goals:
+                decided = self.search(q, goal, network, consts)
+                if decided is not None:
+                    return decided
+            if q.inclusion is not None:
+                decided = self.follow(q, network, consts)
+                if decided is not None:
+                    return decided
+        except Unsupported as exc:
+            return self.unsupported(exc)
+        return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
+                           depth=self.bound if self.proof == Proof.BOUNDED else self.depth)
+
+    def search(self, q: Query, goal: Goal, network: Network, consts: dict[str, ast.Expr]) -> Result | None:
+        """Search one goal; a `Result` if it decides the assertion, None if the next goal is to be searched."""
+        system = TransitionSystem(network, self.ranges, consts, context=q.context)
+        if goal.prepare is not None:
+            goal.prepare(system)
+        if not goal.applies(system):
+            if goal.skipped:
+                self.reasons.append(goal.skipped)
+            return None
+        outcome = bmc(system, goal.target, self.bound, self.time_left(), goal.stateless and self.induction,
+                      fewest_visible=self.shortest == "events")
+        if outcome.status == Status.UNKNOWN:
+            return self.result(Verdict.UNKNOWN, outcome.reason, proof=Proof.NONE, depth=outcome.depth)
+        if outcome.status == Status.FOUND:
+            return self.found(q, goal, outcome)
+        if outcome.status == Status.PROVED:
+            verdict = goal.unreachable
+            why = (f"{goal.claim}, shown for runs of every length, not only up to {self.bound} steps "
+                   f"({outcome.reason})" if verdict == Verdict.HOLDS
+                   else f"no run of any length reaches {goal.sought} ({outcome.reason})")
+            proof = Proof.K_INDUCTION
+            self.depth = max(self.depth or 0, outcome.depth)
+        elif goal.not_found == Verdict.HOLDS:
+            verdict, why, proof = Verdict.HOLDS, f"{goal.claim} within {self.bound} steps", Proof.BOUNDED
+        else:
+            verdict, why = Verdict.UNKNOWN, f"not found within {self.bound} steps; a bounded search alone gives no verdict"
+            proof = Proof.NONE
+        if verdict != Verdict.HOLDS:
+            return self.result(verdict, why, proof=proof, depth=outcome.depth)
+        if proof == Proof.BOUNDED:
+            self.proof = Proof.BOUNDED
+        self.reasons.append(why)
+        return None
+
+    def found(self, q: Query, goal: Goal, outcome: Outcome) -> Result:
+        """The target was reached: decode the run, replay it, and say what it shows."""
+        u, model = outcome.unroller, outcome.model
+        assert u is not None and model is not None
+        trace = decode(u, model, outcome.depth)
+        if isinstance(u.system.extension, MonitorExtension):
+            trace = u.system.extension.around(u, model, outcome.depth, trace)
+        why = goal.describe(u, model, outcome.depth)
+        if outcome.reason:
+            why = f"{why} ({outcome.reason})"
+        if goal.found == Verdict.HOLDS and self.reasons:  # earlier goals found nothing wrong
+            why = "; ".join([*self.reasons, f"witness: {why}"])
+        consts = {**self.settings, **dict(q.settings),
+                  **{s.constant: s.value for s in self.a.settings if s.kind == "constant"}}
+        replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, consts)
+        extra = {"replayed": replayed}
+        if outcome.reason:  # `shortest="events"` could not finish
+            extra["shortest"] = outcome.reason
+        return self.result(goal.found, why, proof=Proof.TRACE, depth=outcome.depth, trace=trace, extra=extra)
+
+    def follow(self, q: Query, network: Network, consts: dict[str, ast.Expr]) -> Result | None:
+        """Every trace of the specification on the model's right is one of the model's."""
+        assert q.context is not None and q.inclusion is not None
+        context = q.context
+
+        def make(follower: Callable[[TransitionSystem], TraceFollower]) -> TransitionSystem:
+            return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
+
+        inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left)
+        if self.a.negated:
+            if inc.verdict == Verdict.VIOLATED:
+                return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace)
+            return self.result(Verdict.UNKNOWN, f"{inc.reason}; a bounded search alone gives no verdict"
+                               if inc.verdict == Verdict.HOLDS else inc.reason, proof=Proof.NONE, depth=None,
+                               trace=inc.trace)
+        if inc.verdict != Verdict.HOLDS:
+            return self.result(inc.verdict, inc.reason, trace=inc.trace, depth=None,
+                               proof=Proof.TRACE if inc.verdict == Verdict.VIOLATED else Proof.NONE)
+        self.proof = Proof.BOUNDED  # traces are listed up to a length only
+        self.reasons.append(inc.reason)
+        return None
+
+
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
                     settings: dict[str, ast.Expr], timeout: float | None, induction: bool = True,
                     shortest: str = "steps") -> Result:
-    """The verdict of one assertion: its goals searched in order (see `properties.queries.Query`)."""
-    start = time.perf_counter()
-    described = ranges.describe()
-    pos = str(a.pos)
-
-    def result(verdict: str, reason: str | None, trace: tuple = (), searched: int | None = bound,
-               extra: dict | None = None) -> Result:
-        return Result(a.name, a.text, verdict, searched, described, time.perf_counter() - start, reason,
-                      trace=trace, pos=pos, extra=extra or {})
-
-    try:
-        q = query(project, a)
-        network = network_of(q.element, dict(q.defined))
-        check_encodable(network)
-        consts = dict(settings)
-        consts.update(dict(q.settings))
-        consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
-        reasons: list[str] = []
-        for goal in q.goals:
-            remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
-            def build(tag: str = "", goal: Goal = goal) -> System:
-                s = System(network, ranges, consts, tag=tag, context=q.context)
-                if goal.prepare is not None:
-                    goal.prepare(s)
-                return s
-
-            system = build()
-            if not goal.applies(system):
-                if goal.skipped:
-                    reasons.append(goal.skipped)
-                continue
-            prover = (lambda: build("k.")) if goal.stateless and induction else None
-            outcome = bmc(system, goal.target, bound, remaining, prover, fewest_visible=shortest == "events")
-            if outcome.status == "unknown":
-                return result("unknown", outcome.reason)
-            if outcome.status == "found":
-                assert outcome.model is not None
-                trace = decode(system, outcome.model, outcome.depth)
-                if isinstance(system.extension, MonitorExtension):
-                    trace = system.extension.around(system, outcome.model, outcome.depth, trace)
-                why = goal.describe(system, outcome.model, outcome.depth)
-                if outcome.reason:
-                    why = f"{why} ({outcome.reason})"
-                if goal.found == "holds" and reasons:  # earlier goals found nothing wrong
-                    why = "; ".join([*reasons, f"witness: {why}"])
-                replayed = replay_trace(q, a, goal, trace, initial_choices(system, outcome.model), ranges, consts)
-                extra = {"replayed": replayed}
-                if outcome.reason:  # `shortest="events"` could not finish
-                    extra["shortest"] = outcome.reason
-                return result(goal.found, why, trace=trace, extra=extra)
-            if outcome.status == "proved":
-                verdict = goal.unreachable
-                why = (f"{goal.claim}, shown for runs of every length, not only up to {bound} steps "
-                       f"({outcome.reason})" if verdict == "holds"
-                       else f"no run of any length reaches {goal.sought} ({outcome.reason})")
-            elif goal.not_found == "holds":
-                verdict, why = "holds", f"{goal.claim} within {bound} steps"
-            else:
-                verdict, why = "unknown", f"not found within {bound} steps; a bounded search alone gives no verdict"
-            if verdict != "holds":
-                return result(verdict, why)
-            reasons.append(why)
-        if q.inclusion is not None:
-            assert q.context is not None
-            context = q.context
-
-            def make(follower: Callable[[System], TraceFollower] | None, tag: str) -> System:
-                assert follower is not None
-                return System(network, ranges, consts, tag=tag, context=Following(context, follower))
-
-            def time_left() -> float | None:
-                return None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))
-
-            inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, bound, time_left)
-            if a.negated:
-                if inc.verdict == "violated":
-                    return result("holds", inc.reason, trace=inc.trace)
-                return result("unknown", f"{inc.reason}; a bounded search alone gives no verdict"
-                              if inc.verdict == "holds" else inc.reason, trace=inc.trace)
-            if inc.verdict != "holds":
-                return result(inc.verdict, inc.reason, trace=inc.trace)
-            reasons.append(inc.reason)
-    except Unenumerable as exc:
-        return result("unsupported", f"the traces of the specification cannot be listed: {exc}", searched=None)
-    except NotSupported as exc:
-        return result("unsupported", str(exc), searched=None)
-    except (Unsupported, CspError) as exc:
-        return result("unsupported", f"{exc.what} ({exc.pos})")
-    return result("holds", "; ".join(reasons))
+    """The verdict of one assertion: its goals searched in order (see `properties.goals.Query`)."""
+    return _Check(a, bound, ranges, settings, timeout, induction, shortest).run(project)
 
 
 def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,
@@ -141,7 +185,6 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     from tockbmc.explicit.engine import is_state, python_settings, ranges_dict
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
     from tockbmc.explicit.replay import replay
-    from tockbmc.properties.queries import stuck, terminated, timelocked
 
     try:
         interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined))
@@ -158,6 +201,6 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
             return True
 
         replay(interp, trace, choices, q.context, final)
-    except (NotInterpretable, Unbounded, NotSupported) as exc:
+    except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
     return "yes"

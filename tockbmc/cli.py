@@ -16,11 +16,11 @@ from rich.text import Text
 from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.check import check as run_check
-from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.model.ranges import Range, Ranges
+from tockbmc.model.result import exit_code
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results, print_trace
-from tockbmc.report.results import summary as summary_counts
 from tockbmc.report.results import to_json as results_json
 from tockbmc.report.structure import project_data, project_tree
 
@@ -167,8 +167,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         sys.stdout.flush()
     except BrokenPipeError:  # `tockbmc check … | head`: the reader left; the verdicts still decide the status
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-    counts = summary_counts(results)
-    sys.exit(10 if counts["violated"] else 20 if counts["unknown"] or counts["unsupported"] else 0)
+    sys.exit(exit_code(r.verdict for r in results))
 
 
 @cli.command()

@@ -1,1 +1,1 @@
-"""bmc layer: built in a later issue; see DEVELOPERS.md."""
+"""Engines: every solver loop (BMC with k-induction, trace inclusion) and the witnesses they decode."""

@@ -26,137 +26,147 @@ never print: they return an `Outcome`.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
+from enum import Enum
 
 import z3
 
-from tockbmc.encodings.system import System
-from tockbmc.properties.queries import Target
+from tockbmc.encodings.system import Target, TransitionSystem
+from tockbmc.encodings.unroller import Unroller
 
 INDUCTION_DEPTH = 12  # deepest induction tried; beyond it the simple-path constraints cost more than they save
 
 
+class Status(Enum):
+    FOUND = "found"  # a run reaches the target: `Outcome.model` describes it
+    NOT_FOUND = "not found"  # no run of up to the bound does
+    PROVED = "proved"  # no run of any length does (k-induction)
+    UNKNOWN = "unknown"  # the solver gave up or the time ran out
+
+
 @dataclass
 class Outcome:
-    status: str  # "found" | "not found" | "proved" | "unknown"
+    status: Status
     depth: int  # steps in the trace when found; the depth searched otherwise
+    unroller: Unroller | None = None  # the unrolling the model speaks of (when found)
     model: z3.ModelRef | None = None
     reason: str | None = None
 
 
-def _solver(deadline: float | None) -> z3.Solver:
-    s = z3.Solver()
-    if deadline is not None:
-        s.set("timeout", max(1, int((deadline - time.monotonic()) * 1000)))
-    return s
+class _Clock:
+    """The time left of one search, given to each solver call (Z3's timeout is per call)."""
+
+    def __init__(self, timeout: float | None):
+        self.deadline = time.monotonic() + timeout if timeout is not None else None
+
+    def arm(self, solver: z3.Solver) -> bool:
+        """Give the solver what is left; False when nothing is."""
+        if self.deadline is None:
+            return True
+        left = self.deadline - time.monotonic()
+        if left <= 0:
+            return False
+        solver.set("timeout", max(1, int(left * 1000)))
+        return True
 
 
 class _Induction:
     """The step case of k-induction, extended one configuration at a time."""
 
-    def __init__(self, system: System, target: Target, deadline: float | None):
-        self.system, self.target = system, target
-        self.solver = _solver(deadline)
-        self.deadline = deadline
+    def __init__(self, system: TransitionSystem, target: z3.BoolRef, clock: _Clock):
+        self.system, self.target, self.clock = system, target, clock
+        self.unroller = Unroller(system)
+        self.solver = z3.Solver()
         self.solver.add(system.invariants())
         self.length = 0  # configurations 0..length-1 are constrained to be non-targets
 
     def _distinct(self, i: int, j: int) -> z3.BoolRef:
-        a, b = self.system.frame(i), self.system.frame(j)
+        a, b = self.unroller.frame(i), self.unroller.frame(j)
         return z3.Or([a[n] != b[n] for n in self.system.sorts])
 
     def proves(self, k: int) -> bool | None:
         """Whether k non-target configurations are always followed by a non-target (None: gave up)."""
-        s = self.system
+        u = self.unroller
         while self.length < k:
             j = self.length
-            self.solver.add(z3.Not(self.target(s, j)), s.step(j))
+            self.solver.add(z3.Not(u.at(self.target, j)), u.at(self.system.trans(), j))
             self.solver.add([self._distinct(i, j) for i in range(j)])
             self.length += 1
         self.solver.add([self._distinct(i, k) for i in range(k)])
-        if self.deadline is not None:
-            left = self.deadline - time.monotonic()
-            if left <= 0:
-                return None
-            self.solver.set("timeout", max(1, int(left * 1000)))
+        if not self.clock.arm(self.solver):
+            return None
         literal = z3.Bool(f"induction@{k}")
-        self.solver.add(z3.Implies(literal, self.target(s, k)))
-        self.solver.add(s.side_constraints())
+        self.solver.add(z3.Implies(literal, u.at(self.target, k)))
+        self.solver.add(u.axioms_upto(k))
         result = self.solver.check(literal)
         return True if result == z3.unsat else (False if result == z3.sat else None)
 
 
-def bmc(system: System, target: Target, bound: int, timeout: float | None = None,
-        induction: Callable[[], System] | None = None, fewest_visible: bool = False) -> Outcome:
+def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
+        induction: bool = False, fewest_visible: bool = False) -> Outcome:
     """Search runs of up to `bound` steps for one that reaches `target`.
 
-    `induction`, when given, makes a fresh system for the k-induction step case.
+    With `induction`, k-induction may prove after each depth that no run of any length does.
     """
-    deadline = time.monotonic() + timeout if timeout is not None else None
-    solver = _solver(deadline)
-    solver.add(system.init())
-    prover = _Induction(induction(), target, deadline) if induction is not None else None
+    clock = _Clock(timeout)
+    goal = target(system)
+    trans = system.trans()
+    u = Unroller(system)
+    solver = z3.Solver()
+    solver.add(u.at(system.init(), 0))
+    prover = _Induction(system, goal, clock) if induction else None
     for k in range(bound + 1):
-        goal = target(system, k)
-        solver.add(system.side_constraints())
         literal = z3.Bool(f"target@{k}")
-        solver.add(z3.Implies(literal, goal))
-        if deadline is not None:  # Z3's timeout is per check: give each what is left
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return Outcome("unknown", k, None, f"timed out at depth {k}")
-            solver.set("timeout", max(1, int(left * 1000)))
+        solver.add(z3.Implies(literal, u.at(goal, k)))
+        solver.add(u.axioms_upto(k))
+        if not clock.arm(solver):
+            return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
         result = solver.check(literal)
         if result == z3.sat:
             if fewest_visible:
-                return _fewest_visible(system, target, bound, solver, k, solver.model(), deadline)
-            return Outcome("found", k, solver.model())
+                return _fewest_visible(u, goal, bound, solver, k, solver.model(), clock)
+            return Outcome(Status.FOUND, k, u, solver.model())
         if result == z3.unknown:
             why = solver.reason_unknown()
             if why in ("canceled", "timeout"):
-                return Outcome("unknown", k, None, f"timed out at depth {k}")
-            return Outcome("unknown", k, None, f"Z3 gave up at depth {k}: {why}")
-        if prover is not None and k < INDUCTION_DEPTH:
-            if prover.proves(k + 1):
-                return Outcome("proved", k, None, f"it is {k + 1}-inductive, so no depth reaches it")
+                return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
+            return Outcome(Status.UNKNOWN, k, reason=f"Z3 gave up at depth {k}: {why}")
+        if prover is not None and k < INDUCTION_DEPTH and prover.proves(k + 1):
+            return Outcome(Status.PROVED, k, reason=f"it is {k + 1}-inductive, so no depth reaches it")
         if k < bound:
-            solver.add(system.step(k))
-            solver.add(system.side_constraints())
-    return Outcome("not found", bound)
+            solver.add(u.at(trans, k))
+    return Outcome(Status.NOT_FOUND, bound)
 
 
-def _visible(system: System, model: z3.ModelRef, depth: int) -> int:
-    return sum(1 for i in range(depth) if z3.is_true(model.eval(system.visible(i), model_completion=True)))
+def _visible(u: Unroller, model: z3.ModelRef, depth: int) -> int:
+    shown = u.system.visible()
+    return sum(1 for i in range(depth) if z3.is_true(model.eval(u.at(shown, i), model_completion=True)))
 
 
-def _fewest_visible(system: System, target: Target, bound: int, solver: z3.Solver, k: int,
-                    model: z3.ModelRef, deadline: float | None) -> Outcome:
+def _fewest_visible(u: Unroller, goal: z3.BoolRef, bound: int, solver: z3.Solver, k: int,
+                    model: z3.ModelRef, clock: _Clock) -> Outcome:
     """From a counterexample at depth k, one with the fewest visible steps within `bound`."""
-    best, depth = _visible(system, model, k), k
+    best, depth = _visible(u, model, k), k
     d = k
     unfinished = None  # why the trace may not have the fewest visible steps
+    shown = u.system.visible()
     while best > 0 and d <= bound:
-        if deadline is not None:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                unfinished = f"fewer visible steps were searched for up to depth {d - 1} only (timed out)"
-                break
-            solver.set("timeout", max(1, int(left * 1000)))
+        if not clock.arm(solver):
+            unfinished = f"fewer visible steps were searched for up to depth {d - 1} only (timed out)"
+            break
         fewer = z3.Bool(f"fewer@{d}.{best}")
-        count = z3.Sum([z3.If(system.visible(i), 1, 0) for i in range(d)]) if d else z3.IntVal(0)
-        solver.add(z3.Implies(fewer, z3.And(target(system, d), count < best)))
-        solver.add(system.side_constraints())
+        count = z3.Sum([z3.If(u.at(shown, i), 1, 0) for i in range(d)]) if d else z3.IntVal(0)
+        solver.add(z3.Implies(fewer, z3.And(u.at(goal, d), count < best)))
+        solver.add(u.axioms_upto(d))
         result = solver.check(fewer)
         if result == z3.sat:
             model, depth = solver.model(), d
-            best = _visible(system, model, d)
+            best = _visible(u, model, d)
             continue  # perhaps fewer still at this depth
         if result == z3.unknown:  # keep the one found: a counterexample, if perhaps not the fewest
             unfinished = f"fewer visible steps were searched for up to depth {d - 1} only ({solver.reason_unknown()})"
             break
         if d < bound:
-            solver.add(system.step(d))
-            solver.add(system.side_constraints())
+            solver.add(u.at(u.system.trans(), d))
         d += 1
-    return Outcome("found", depth, model, unfinished)
+    return Outcome(Status.FOUND, depth, u, model, unfinished)

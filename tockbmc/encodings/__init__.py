@@ -1,1 +1,1 @@
-"""encodings layer: built in a later issue; see DEVELOPERS.md."""
+"""Encodings: machines as automata, networks of them, and their symbolic transition system over Z3."""

@@ -18,20 +18,12 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from tockbmc.model import ast
+from tockbmc.model.errors import Unsupported
 
 
 def entry_clock(state: str) -> str:
     """The name of the counter behind `sinceEntry(state)`: a clock reset on entering the state."""
     return f"sinceEntry({state})"
-
-
-class Unsupported(Exception):
-    """A construct the encoding does not handle yet; carries its position."""
-
-    def __init__(self, pos: ast.Pos, what: str):
-        super().__init__(what)
-        self.pos = pos
-        self.what = what
 
 
 @dataclass(frozen=True)

@@ -12,8 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from tockbmc.encodings.automaton import Automaton, Unsupported, compile_machine
+from tockbmc.encodings.automaton import Automaton, compile_machine
 from tockbmc.model import ast
+from tockbmc.model.errors import Unsupported
 
 
 @dataclass(frozen=True)

@@ -1,13 +1,16 @@
-"""The symbolic transition system of a network of machines, unrolled step by step in Z3.
+"""The symbolic transition system of a network of machines, over one template step.
 
-A configuration is a flat set of named scalars: per machine its location,
-variables, clocks and `wait`/deadline counters; the shared variables; per
-asynchronous link its buffer.  A step is one `Move` (`semantics.md` §2): an
-internal step, a visible event or `tock`.  Step `i` picks the move `act@i`;
-`step(i)` relates the configurations at `i` and `i + 1`, each scalar's next
-value being an if-then-else over the moves that change it, so one constraint
-per scalar is written rather than a frame per move.  Names follow pySMT's
-`at_time` convention: `x@i` is `x` at step `i`.
+A configuration is a flat set of named scalars (`encodings.names`): per
+machine its location, variables, clocks and `wait`/deadline counters; the
+shared variables; per asynchronous link its buffer.  A step is one `Move`
+(`semantics.md` §2): an internal step, a visible event or `tock`.
+
+Every formula is built once, over the template step: the configuration before
+it (`cur`, scalars named `x@0`), the one after it (`nxt`, `x@1`), the move it
+takes (`act`, `act@0`) and the values chosen during it (`inputs`, `name@0`).
+`trans()` relates `cur` and `nxt`, each scalar's next value an if-then-else
+over the moves that change it.  The `Unroller` (`encodings.unroller`) puts
+these terms at step k; this module never names a step other than the template.
 """
 
 from __future__ import annotations
@@ -18,10 +21,13 @@ from typing import Protocol
 
 import z3
 
-from tockbmc.encodings.automaton import Edge, TriggerDeadline, Unsupported
+from tockbmc.encodings import names
+from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
 from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
 from tockbmc.model import ast
+from tockbmc.model.csp import canonical
+from tockbmc.model.errors import Unsupported
 
 
 @dataclass(frozen=True)
@@ -57,74 +63,54 @@ class _Effect:
     side: list[z3.BoolRef]  # function axioms instantiated at the calls this step makes
 
 
-class _Renaming:
-    """A substitution of constants, prepared once and applied to many terms.
-
-    `z3.substitute` re-checks every pair's sorts in Python at each call, which costs more than the
-    substitution itself when the same pairs rename hundreds of terms."""
-
-    def __init__(self, pairs: list[tuple[z3.ExprRef, z3.ExprRef]]):
-        assert all(a.sort().eq(b.sort()) for a, b in pairs)
-        self.size = len(pairs)
-        self.old = (z3.Ast * self.size)(*(a.as_ast() for a, _ in pairs))
-        self.new = (z3.Ast * self.size)(*(b.as_ast() for _, b in pairs))
-        self.keep = pairs  # the arrays hold raw pointers: keep their owners alive
-
-    def __call__(self, term: z3.ExprRef) -> z3.ExprRef:
-        ctx = term.ctx
-        return z3.z3._to_expr_ref(z3.Z3_substitute(ctx.ref(), term.as_ast(), self.size, self.old, self.new), ctx)
-
-
 class Context(Protocol):
-    """What a CSP context does to the element's events (see `encodings.process`)."""
+    """What a CSP context does to the element's events (see `properties.process`)."""
 
     def status(self, label: tuple, arity: int) -> str:
         """'visible', 'hidden' or 'blocked' for the events of one channel."""
         ...
 
-    def attach(self, system: System) -> Extension | None:
+    def attach(self, system: TransitionSystem) -> Extension | None:
         """Extra state that runs beside the element (a specification monitor), if any."""
         ...
 
 
 class Extension(Protocol):
-    """Scalars and constraints added to every configuration and step."""
+    """Scalars and constraints added to every configuration and step (over the template step)."""
 
     def slots(self) -> dict[str, z3.SortRef]: ...
 
-    def init(self, system: System) -> z3.BoolRef: ...
+    def init(self, system: TransitionSystem) -> z3.BoolRef: ...
 
-    def step(self, system: System, i: int) -> z3.BoolRef: ...
+    def step(self, system: TransitionSystem) -> z3.BoolRef: ...
 
 
-class System:
-    """The unrolling of a network; configurations and inputs are created on demand."""
+Target = Callable[["TransitionSystem"], z3.BoolRef]
+"""What an engine searches for: a formula over the template configuration `cur` (and, through an
+extension's state, over the history) that holds where a run ends in a violation or a witness."""
+
+
+class TransitionSystem:
+    """A network's configurations, moves, initial condition and step relation, over the template step."""
 
     def __init__(self, network: Network, ranges: Ranges, settings: dict[str, ast.Expr] | None = None,
-                 tag: str = "", context: Context | None = None):
+                 context: Context | None = None):
         self.network = network
         self.ranges = ranges
         self.settings = settings or {}
-        self.tag = tag
         self.name = network.name
         self.components = network.components
         self.sorts: dict[str, z3.SortRef] = {}
-        self.frames: list[dict[str, z3.ExprRef]] = []
-        self.actions: list[z3.ArithRef] = []
-        self.fresh_values: dict[str, Value] = {}
-        self.side: list[z3.BoolRef] = []
+        self._states: tuple[dict[str, z3.ExprRef], dict[str, z3.ExprRef]] | None = None
+        self.act = z3.Int("act@0")  # the index of the move the template step takes
+        self.inputs: dict[str, tuple[ast.Type, Value]] = {}  # values chosen during the step, by name
+        self.side: list[z3.BoolRef] = []  # function axioms at the calls the formulas make (grows as they are built)
         self.constraints: list[z3.BoolRef] = []  # on constants: they hold at every step
         self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
-        self._effects: dict[tuple[int, int], _Effect] = {}
-        self._chosen0: list[tuple[str, ast.Type]] = []  # the values chosen in step 0, in order
-        self._renamed0: dict[int, int] = {}  # step -> how many of `_sides0` have been renamed to it
-        self._renamings: dict[int, tuple[int, _Renaming]] = {}
-        self._per_step: dict[tuple[str, int], z3.BoolRef] = {}
-        self._sides0: list[z3.BoolRef] = []  # function axioms of every formula built for step 0
-        self._halted: dict[int, z3.BoolRef] = {}
-        self._side_seen: set[int] = set()
+        self._effects: dict[int, _Effect] = {}
+        self._built: dict[str, z3.BoolRef] = {}
         self._declare()
         self.moves = self._moves()
         self.TOCK = len(self.moves) - 1
@@ -140,8 +126,8 @@ class System:
                 self.add(self.extension)
 
     def add(self, extension: Extension) -> None:
-        """Run extra state beside the network (before any configuration is created)."""
-        assert not self.frames, "extensions are added before the unrolling starts"
+        """Run extra state beside the network (before any formula names a configuration)."""
+        assert self._states is None, "extensions are added before any formula is built"
         self.extensions.append(extension)
         slots = extension.slots()
         self.extension_slots.update(slots)
@@ -155,6 +141,49 @@ class System:
         if status == "hidden":
             return replace(m, kind="internal", hidden=True)
         return replace(m, blocked=True) if status == "blocked" else m
+
+    # ------------------------------------------------------------ the template step's symbols
+
+    @property
+    def cur(self) -> dict[str, z3.ExprRef]:
+        """The configuration before the template step, as scalars by name (`x@0`)."""
+        return self._template()[0]
+
+    @property
+    def nxt(self) -> dict[str, z3.ExprRef]:
+        """The configuration after the template step (`x@1`)."""
+        return self._template()[1]
+
+    def _template(self) -> tuple[dict[str, z3.ExprRef], dict[str, z3.ExprRef]]:
+        if self._states is None:
+            self._states = tuple({n: z3.Const(f"{n}@{k}", s) for n, s in self.sorts.items()}  # type: ignore[assignment]
+                                 for k in (0, 1))
+        assert self._states is not None
+        return self._states
+
+    def input(self, name: str, t: ast.Type) -> Value:
+        """A value chosen during the template step (an input, a wait length), created once."""
+        if name not in self.inputs:
+            self.inputs[name] = (t, fresh(f"{name}@0", t))
+        return self.inputs[name][1]
+
+    def loc(self, c: int) -> z3.ArithRef:
+        return self.cur[names.location(self.components[c].name)]  # type: ignore[return-value]
+
+    def value(self, base: str, t: ast.Type, after: bool = False) -> Value:
+        """A variable's value before the template step (after it, with `after`)."""
+        f = self.nxt if after else self.cur
+        if isinstance(t, ast.RecordType):
+            return {fd.name: self.value(f"{base}.{fd.name}", fd.type, after) for fd in t.fields}
+        return f[base]
+
+    def evaluator(self, c: int, extra: dict[int, Value] | None = None) -> Evaluator:
+        env = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
+        if extra:
+            env.update(extra)
+        name = self.components[c].name
+        clocks = {clock: self.cur[names.clock(name, clock)] for clock in self.components[c].automaton.clocks}
+        return Evaluator(env, self.constants[c], self.side, clocks)
 
     # ------------------------------------------------------------ event labels (CSP's view)
 
@@ -177,8 +206,8 @@ class System:
         name = self.network.visible_name(c, e.event.name)
         return (canonical(name), "in" if e.kind == "in" else "out"), int(e.event.type is not None)
 
-    def label_values(self, m: Move, i: int) -> list[tuple[Value, ast.Type]]:
-        """The values a visible move at step i carries, with their types."""
+    def label_values(self, m: Move) -> list[tuple[Value, ast.Type]]:
+        """The values a visible move carries in the template step, with their types."""
         if m.kind == "tock":
             return []
         if m.role in ("env-write", "env-read"):
@@ -188,13 +217,13 @@ class System:
             t = end.event.type
             if t is None:
                 return []
-            value = (self.chosen(f"in.{end.name}", t, i) if m.role == "env-write"
-                     else self.value(f"buffer{m.link.index}.value", t, i))
+            value = (self.input(names.input_value(end.name), t) if m.role == "env-write"
+                     else self.value(names.buffer_value(m.link.index), t))
             return [(value, t)]
         c, e = m.parts[0]
         if e.kind == "terminate":
             return []
-        ev = self.evaluator(c, i)
+        ev = self.evaluator(c)
         if e.kind == "call":
             return [(ev.value(a), a.type) for a in e.args]
         assert e.event is not None
@@ -203,7 +232,7 @@ class System:
             return []
         if e.kind == "in":
             name = self.network.visible_name(c, e.event.name)
-            return [(self.chosen(f"in.{name}", t, i), t)]
+            return [(self.input(names.input_value(name), t), t)]
         assert e.value is not None
         return [(ev.value(e.value), t)]
 
@@ -221,13 +250,13 @@ class System:
         shared_consts: dict[str, Value] = {}
         for c, comp in enumerate(self.components):
             m = comp.machine
-            self._slot(f"{comp.name}.loc", z3.IntSort())
-            self._slot(f"{comp.name}.wait", z3.IntSort())
-            self._slot(f"{comp.name}.deadline", z3.IntSort())
+            self._slot(names.location(comp.name), z3.IntSort())
+            self._slot(names.wait(comp.name), z3.IntSort())
+            self._slot(names.deadline(comp.name), z3.IntSort())
             for clock in comp.automaton.clocks:
-                self._slot(f"{comp.name}.clock.{clock}", z3.IntSort())
+                self._slot(names.clock(comp.name, clock), z3.IntSort())
             for td in comp.automaton.trigger_deadlines:
-                self._slot(f"{comp.name}.armed.{td.transition}", z3.IntSort())
+                self._slot(names.armed(comp.name, td.transition), z3.IntSort())
             slots: dict[int, tuple[str, ast.Type]] = {}
             consts: dict[int, Value] = {}
             own = [("", v) for v in (*m.variables, *m.interface_variables)]
@@ -241,11 +270,11 @@ class System:
                     if key is not None and key in shared_consts:
                         consts[id(v)] = shared_consts[key]
                         continue
-                    consts[id(v)] = self._constant(v, decl, key or f"{comp.name}::{v.name}")
+                    consts[id(v)] = self._constant(v, decl, key or names.constant(comp.name, v.name))
                     if key is not None:
                         shared_consts[key] = consts[id(v)]
                     continue
-                base = key or (f"{comp.name}.{scope}().{v.name}" if scope else f"{comp.name}.{v.name}")
+                base = key or names.variable(comp.name, v.name, scope)
                 slots[id(v)] = (base, v.type)
                 if base not in self.initial:
                     self._scalars(base, v.type)
@@ -254,13 +283,13 @@ class System:
             self.constants[c] = consts
         for link in self.network.links:
             if link.asynchronous:
-                self._slot(f"buffer{link.index}.full", z3.BoolSort())
+                self._slot(names.buffer_full(link.index), z3.BoolSort())
                 t = _end_event(link).type
                 if t is not None:
-                    self._scalars(f"buffer{link.index}.value", t)
+                    self._scalars(names.buffer_value(link.index), t)
 
     def _constant(self, v: ast.Variable, decl: ast.Variable, name: str) -> Value:
-        value = fresh(f"{self.tag}{name}", v.type)
+        value = fresh(name, v.type)
         given = self.settings.get(v.name)
         expr = given if given is not None else decl.initial
         if expr is not None:
@@ -268,47 +297,6 @@ class System:
         else:
             self.constraints += domain(value, v.type, self.ranges, name)
         return value
-
-    # ------------------------------------------------------------ symbols
-
-    def frame(self, i: int) -> dict[str, z3.ExprRef]:
-        """The configuration at step i, as scalars by name."""
-        while len(self.frames) <= i:
-            k = len(self.frames)
-            self.frames.append({n: z3.Const(f"{self.tag}{n}@{k}", s) for n, s in self.sorts.items()})
-        return self.frames[i]
-
-    def action(self, i: int) -> z3.ArithRef:
-        """The index of the move taken at step i."""
-        while len(self.actions) <= i:
-            self.actions.append(z3.Int(f"{self.tag}act@{len(self.actions)}"))
-        return self.actions[i]
-
-    def chosen(self, name: str, t: ast.Type, i: int) -> Value:
-        """A value chosen during step i (an input, a wait length), created once."""
-        key = f"{name}@{i}"
-        if key not in self.fresh_values:
-            if i == 0:
-                self._chosen0.append((name, t))
-            self.fresh_values[key] = fresh(f"{self.tag}{key}", t)
-        return self.fresh_values[key]
-
-    def loc(self, c: int, i: int) -> z3.ArithRef:
-        return self.frame(i)[f"{self.components[c].name}.loc"]  # type: ignore[return-value]
-
-    def value(self, base: str, t: ast.Type, i: int) -> Value:
-        f = self.frame(i)
-        if isinstance(t, ast.RecordType):
-            return {fd.name: self.value(f"{base}.{fd.name}", fd.type, i) for fd in t.fields}
-        return f[base]
-
-    def evaluator(self, c: int, i: int, extra: dict[int, Value] | None = None) -> Evaluator:
-        env = {key: self.value(base, t, i) for key, (base, t) in self.slots[c].items()}
-        if extra:
-            env.update(extra)
-        name = self.components[c].name
-        clocks = {clock: self.frame(i)[f"{name}.clock.{clock}"] for clock in self.components[c].automaton.clocks}
-        return Evaluator(env, self.constants[c], self.side, clocks)
 
     # ------------------------------------------------------------ moves
 
@@ -363,31 +351,31 @@ class System:
 
     # ------------------------------------------------------------ effects of one move
 
-    def _edge(self, c: int, e: Edge, i: int, incoming: Value | None, post: dict[str, z3.ExprRef]
+    def _edge(self, c: int, e: Edge, incoming: Value | None, post: dict[str, z3.ExprRef]
               ) -> tuple[list[z3.BoolRef], list[z3.BoolRef], Value | None]:
-        """Component c takes edge e at step i, receiving `incoming` on an input.
+        """Component c takes edge e in the template step, receiving `incoming` on an input.
 
         Returns (conditions fixed by the configuration, constraints on chosen
         values, the value sent on an output); writes the changed scalars into `post`.
         """
         comp = self.components[c]
-        f = self.frame(i)
-        enabled: list[z3.BoolRef] = [self.loc(c, i) == e.source]
+        f = self.cur
+        enabled: list[z3.BoolRef] = [self.loc(c) == e.source]
         choose: list[z3.BoolRef] = []
         bound: dict[int, Value] = {}
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
-        ev = self.evaluator(c, i, bound)
+        ev = self.evaluator(c, bound)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
         enabled += [ev.scalar(g) for g in e.guard]
         for group in e.negated_guards:
             enabled.append(z3.Not(z3.And([ev.scalar(g) for g in group])))
         if e.ends_wait:
-            enabled.append(f[f"{comp.name}.wait"] == 0)
+            enabled.append(f[names.wait(comp.name)] == 0)
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
         # Updates in order, each reading the values the previous ones wrote.
-        current = {key: self.value(base, t, i) for key, (base, t) in self.slots[c].items()}
+        current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
         for a in e.updates:
             new = Evaluator(current, self.constants[c], self.side, ev.clocks).value(a.value)
@@ -395,7 +383,7 @@ class System:
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
             base, t = self.slots[c][id(v)]
-            value = self.chosen(f"{base}.fresh", t, i)
+            value = self.input(names.fresh_value(base), t)
             choose += domain(value, t, self.ranges, base)
             current[id(v)] = value
         for key, (base, _t) in self.slots[c].items():
@@ -403,80 +391,43 @@ class System:
                 for path, term in leaves(current[key]):
                     post[base + path] = term
         if e.target != e.source:
-            post[f"{comp.name}.loc"] = z3.IntVal(e.target)
+            post[names.location(comp.name)] = z3.IntVal(e.target)
         for clock in e.resets:
-            post[f"{comp.name}.clock.{clock}"] = z3.IntVal(0)
+            post[names.clock(comp.name, clock)] = z3.IntVal(0)
         if e.kind == "wait":
-            length = self.chosen(f"{comp.name}.wait_length", ast.INT, i)
+            length = self.input(names.wait_length(comp.name), ast.INT)
             low, high = ev.scalar(e.wait_low), ev.scalar(e.wait_high)  # type: ignore[arg-type]
             enabled.append(low <= high)
             choose += [length >= low, length <= high]  # type: ignore[list-item, operator]
-            post[f"{comp.name}.wait"] = length  # type: ignore[assignment]
+            post[names.wait(comp.name)] = length  # type: ignore[assignment]
         if e.deadline is not None:
-            post[f"{comp.name}.deadline"] = ev.scalar(e.deadline)  # type: ignore[assignment]
+            post[names.deadline(comp.name)] = ev.scalar(e.deadline)  # type: ignore[assignment]
         for td in comp.automaton.trigger_deadlines:
             if e.target not in td.armed or td.source in e.exits:
-                post[f"{comp.name}.armed.{td.transition}"] = z3.IntVal(0)
+                post[names.armed(comp.name, td.transition)] = z3.IntVal(0)
         return enabled, choose, sent
 
-    def _input(self, name: str, event: ast.Event, i: int, path: str) -> tuple[Value, list[z3.BoolRef]]:
-        """A value the environment supplies on `event` at step i, within its type and ranges."""
+    def _input(self, name: str, event: ast.Event, path: str) -> tuple[Value, list[z3.BoolRef]]:
+        """A value the environment supplies on `event`, within its type and ranges."""
         assert event.type is not None
-        value = self.chosen(name, event.type, i)
+        value = self.input(name, event.type)
         return value, domain(value, event.type, self.ranges, path)
 
-    def effect(self, m: Move, i: int) -> _Effect:
-        """What taking move m at step i requires and changes."""
-        key = (m.index, i)
-        if key not in self._effects:
-            if i == 0:
-                before = len(self.side)
-                eff = self._effect(m, i)
-                eff.side = self.side[before:]
-                self._sides0 += eff.side
-            else:  # step 0's, renamed: building terms in Python costs far more than Z3's substitution
-                template, rename = self.effect(m, 0), self._renaming(i)
-                eff = _Effect([rename(c) for c in template.enabled],
-                              [rename(c) for c in template.choose],
-                              {n: rename(t) for n, t in template.post.items()},
-                              [rename(c) for c in template.chosen],
-                              [rename(c) for c in template.side])
-                self._renamed_sides(i)
-            self._effects[key] = eff
-        return self._effects[key]
+    def effect(self, m: Move) -> _Effect:
+        """What taking move m requires and changes."""
+        if m.index not in self._effects:
+            before = len(self.side)
+            eff = self._effect(m)
+            eff.side = self.side[before:]
+            self._effects[m.index] = eff
+        return self._effects[m.index]
 
-    def _renaming(self, i: int) -> _Renaming:
-        """What turns a formula about step 0 (configurations 0 and 1, the values chosen in step 0)
-        into the same formula about step i."""
-        known = len(self._chosen0)  # a value first chosen in step 0 after the last call is renamed too
-        if i not in self._renamings or self._renamings[i][0] != known:
-            pairs: list[tuple[z3.ExprRef, z3.ExprRef]] = [(self.action(0), self.action(i))]
-            for k in (0, 1):
-                old, new = self.frame(k), self.frame(i + k)
-                pairs += [(old[n], new[n]) for n in self.sorts]
-            for name, t in self._chosen0[:known]:
-                pairs += zip((term for _, term in leaves(self.fresh_values[f"{name}@0"])),
-                             (term for _, term in leaves(self.chosen(name, t, i))))
-            self._renamings[i] = known, _Renaming(pairs)
-        return self._renamings[i][1]
-
-    def _renamed_sides(self, i: int) -> None:
-        """The function axioms of the step-0 formulas, renamed to step i (some formula renamed to
-        step i may contain calls whose axioms were made while building another: all go, and
-        `side_constraints` drops repeats).  Instances of a function's axiom at more arguments than
-        needed are still true of the function, so this is sound."""
-        done = self._renamed0.get(i, 0)
-        if done < len(self._sides0):
-            rename = self._renaming(i)
-            self.side += [rename(c) for c in self._sides0[done:]]  # type: ignore[misc]
-            self._renamed0[i] = len(self._sides0)
-
-    def _effect(self, m: Move, i: int) -> _Effect:
+    def _effect(self, m: Move) -> _Effect:
         if m.role == "tock":
-            return _Effect([self.tock_enabled(i)], [], self._tock_post(i), [], [])
+            return _Effect([self.tock_enabled()], [], self._tock_post(), [], [])
         post: dict[str, z3.ExprRef] = {}
         inputs: list[z3.ExprRef] = []
-        enabled: list[z3.BoolRef] = [z3.Not(self.halted(i))]
+        enabled: list[z3.BoolRef] = [z3.Not(self.halted())]
         if m.blocked:
             enabled.append(z3.BoolVal(False))
         choose: list[z3.BoolRef] = []
@@ -486,18 +437,18 @@ class System:
             incoming = None
             if e.kind == "in" and e.event is not None and e.event.type is not None:
                 name = self.network.visible_name(c, e.event.name)
-                incoming, dom = self._input(f"in.{name}", e.event, i, name)
+                incoming, dom = self._input(names.input_value(name), e.event, name)
                 choose += dom
                 inputs += [term for _, term in leaves(incoming)]
-            en, ch, _ = self._edge(c, e, i, incoming, post)
+            en, ch, _ = self._edge(c, e, incoming, post)
             enabled += en
             choose += ch
         elif m.role == "sync":
             (a, ea), (b, eb) = m.parts
             out_first = ea.kind == "out" or eb.kind != "out"
             (s, es), (r, er) = ((a, ea), (b, eb)) if out_first else ((b, eb), (a, ea))
-            en1, ch1, sent = self._edge(s, es, i, None, post)
-            en2, ch2, sent2 = self._edge(r, er, i, sent, post)
+            en1, ch1, sent = self._edge(s, es, None, post)
+            en2, ch2, sent2 = self._edge(r, er, sent, post)
             enabled += en1 + en2
             choose += ch1 + ch2
             if sent is not None and sent2 is not None:
@@ -505,152 +456,138 @@ class System:
         elif m.role in ("write", "read"):
             assert link is not None
             c, e = m.parts[0]
-            buffer = self._buffer(link, i)
+            buffer = self._buffer(link)
             if m.role == "write":
-                en, ch, sent = self._edge(c, e, i, None, post)
-                post[f"buffer{link.index}.full"] = z3.BoolVal(True)
+                en, ch, sent = self._edge(c, e, None, post)
+                post[names.buffer_full(link.index)] = z3.BoolVal(True)
                 if sent is not None:
                     self._write(link, sent, post)
             else:
-                en, ch, _ = self._edge(c, e, i, buffer, post)
-                en.append(self.frame(i)[f"buffer{link.index}.full"])  # type: ignore[arg-type]
-                post[f"buffer{link.index}.full"] = z3.BoolVal(False)
+                en, ch, _ = self._edge(c, e, buffer, post)
+                en.append(self.cur[names.buffer_full(link.index)])  # type: ignore[arg-type]
+                post[names.buffer_full(link.index)] = z3.BoolVal(False)
             enabled += en
             choose += ch
         elif m.role == "env-write":
             assert link is not None and isinstance(link.sender, External)
-            post[f"buffer{link.index}.full"] = z3.BoolVal(True)
+            post[names.buffer_full(link.index)] = z3.BoolVal(True)
             if link.sender.event.type is not None:
-                value, dom = self._input(f"in.{link.sender.name}", link.sender.event, i, link.sender.name)
+                value, dom = self._input(names.input_value(link.sender.name), link.sender.event, link.sender.name)
                 choose += dom
                 inputs += [term for _, term in leaves(value)]
                 self._write(link, value, post)
         else:  # env-read
             assert link is not None
-            enabled.append(self.frame(i)[f"buffer{link.index}.full"])  # type: ignore[arg-type]
-            post[f"buffer{link.index}.full"] = z3.BoolVal(False)
+            enabled.append(self.cur[names.buffer_full(link.index)])  # type: ignore[arg-type]
+            post[names.buffer_full(link.index)] = z3.BoolVal(False)
         return _Effect(enabled, choose, post, inputs, [])
 
-    def _buffer(self, link: Link, i: int) -> Value | None:
+    def _buffer(self, link: Link) -> Value | None:
         t = _end_event(link).type
-        return None if t is None else self.value(f"buffer{link.index}.value", t, i)
+        return None if t is None else self.value(names.buffer_value(link.index), t)
 
     def _write(self, link: Link, value: Value, post: dict[str, z3.ExprRef]) -> None:
         for path, term in leaves(value):
-            post[f"buffer{link.index}.value{path}"] = term
+            post[names.buffer_value(link.index) + path] = term
 
-    def _tock_post(self, i: int) -> dict[str, z3.ExprRef]:
-        f = self.frame(i)
+    def _tock_post(self) -> dict[str, z3.ExprRef]:
+        f = self.cur
         post: dict[str, z3.ExprRef] = {}
         for c, comp in enumerate(self.components):
             for clock in comp.automaton.clocks:
-                post[f"{comp.name}.clock.{clock}"] = f[f"{comp.name}.clock.{clock}"] + 1  # type: ignore[operator]
-            waiting = self._at(c, i, comp.automaton.waiting)
-            w = f[f"{comp.name}.wait"]
-            post[f"{comp.name}.wait"] = z3.If(waiting, w - 1, w)  # type: ignore[operator]
-            bounded = self._at(c, i, comp.automaton.deadlined)
-            d = f[f"{comp.name}.deadline"]
-            post[f"{comp.name}.deadline"] = z3.If(bounded, d - 1, d)  # type: ignore[operator]
+                name = names.clock(comp.name, clock)
+                post[name] = f[name] + 1  # type: ignore[operator]
+            w = f[names.wait(comp.name)]
+            post[names.wait(comp.name)] = z3.If(self.located(c, comp.automaton.waiting), w - 1, w)  # type: ignore[operator]
+            d = f[names.deadline(comp.name)]
+            post[names.deadline(comp.name)] = z3.If(self.located(c, comp.automaton.deadlined), d - 1, d)  # type: ignore[operator]
             for td in comp.automaton.trigger_deadlines:
-                name = f"{comp.name}.armed.{td.transition}"
-                post[name] = z3.If(self._armed(c, td, i), f[name] + 1, 0)  # type: ignore[operator]
+                name = names.armed(comp.name, td.transition)
+                post[name] = z3.If(self.armed(c, td), f[name] + 1, 0)  # type: ignore[operator]
         return post
 
-    def _armed(self, c: int, td: TriggerDeadline, i: int) -> z3.BoolRef:
+    # ------------------------------------------------------------ predicates on the configuration before the step
+
+    def armed(self, c: int, td: TriggerDeadline) -> z3.BoolRef:
         """The source of a deadline transition is stable and its condition true."""
-        cond = self.evaluator(c, i).scalar(td.condition) if td.condition is not None else z3.BoolVal(True)
-        return z3.And(self._at(c, i, td.armed), cond)
+        cond = self.evaluator(c).scalar(td.condition) if td.condition is not None else z3.BoolVal(True)
+        return z3.And(self.located(c, td.armed), cond)
 
-    # ------------------------------------------------------------ predicates on a configuration
-
-    def _at(self, c: int, i: int, locations: frozenset[int]) -> z3.BoolRef:
-        loc = self.loc(c, i)
+    def located(self, c: int, locations: frozenset[int]) -> z3.BoolRef:
+        """Component c is at one of `locations`."""
+        loc = self.loc(c)
         return z3.Or([loc == x for x in sorted(locations)]) if locations else z3.BoolVal(False)
 
-    def halted(self, i: int) -> z3.BoolRef:
+    def halted(self) -> z3.BoolRef:
         """Some machine has terminated, so the whole network has (§2.8, §2.12)."""
-        if i not in self._halted:
-            self._halted[i] = z3.Or([self._at(c, i, comp.automaton.terminated)
-                                     for c, comp in enumerate(self.components)])
-        return self._halted[i]
+        return self.once("halted", lambda: z3.Or([self.located(c, comp.automaton.terminated)
+                                                  for c, comp in enumerate(self.components)]))
 
-    def enabled(self, m: Move, i: int) -> z3.BoolRef:
-        """Move m is possible at step i; for a visible input, for some value the environment may offer."""
-        eff = self.effect(m, i)
+    def enabled(self, m: Move) -> z3.BoolRef:
+        """Move m is possible; for a visible input, for some value the environment may offer."""
+        eff = self.effect(m)
         if eff.chosen:
             if eff.side:  # the function axioms must hold at every value, not only at the one chosen
                 self.side.append(z3.ForAll(eff.chosen, z3.And(eff.side)))
             return z3.Exists(eff.chosen, z3.And(eff.enabled + eff.choose))
         return z3.And(eff.enabled)
 
-    def at_step(self, what: str, i: int, build: Callable[[int], z3.BoolRef]) -> z3.BoolRef:
-        """`build(i)`, made once for step 0 and renamed for the others (see `effect`)."""
-        key = (what, i)
-        if key not in self._per_step:
-            if i == 0:
-                before = len(self.side)
-                self._per_step[key] = build(0)
-                self._sides0 += self.side[before:]
-            else:
-                term, renaming = self.at_step(what, 0, build), self._renaming(i)
-                self._per_step[key] = renaming(term)  # type: ignore[assignment]
-                self._renamed_sides(i)
-        return self._per_step[key]
+    def once(self, what: str, build: Callable[[], z3.BoolRef]) -> z3.BoolRef:
+        """`build()`, made the first time `what` is asked for."""
+        if what not in self._built:
+            self._built[what] = build()
+        return self._built[what]
 
-    def visible(self, i: int) -> z3.BoolRef:
-        """Step i is a visible event or `tock` (not an internal step, nor a hidden `tock`)."""
-        act = self.action(i)
+    def visible(self) -> z3.BoolRef:
+        """The template step is a visible event or `tock` (not an internal step, nor a hidden `tock`)."""
         shown = [m for m in self.moves if m.kind != "internal" and not (m.kind == "tock" and self.tock_hidden)]
-        return z3.Or([act == m.index for m in shown] or [z3.BoolVal(False)])
+        return z3.Or([self.act == m.index for m in shown] or [z3.BoolVal(False)])
 
-    def event_offered(self, i: int) -> z3.BoolRef:
-        """Some visible event other than tock is possible at step i."""
-        return self.at_step("event", i, self._event_offered)
+    def event_offered(self) -> z3.BoolRef:
+        """Some visible event other than tock is possible."""
+        return self.once("event", lambda: z3.Or([self.enabled(m) for m in self.moves if m.kind == "event"]
+                                                or [z3.BoolVal(False)]))
 
-    def internal_enabled(self, i: int) -> z3.BoolRef:
-        """Some internal step is possible at step i (internal steps choose no values)."""
-        return self.at_step("internal", i, self._internal_enabled)
+    def internal_enabled(self) -> z3.BoolRef:
+        """Some internal step is possible (internal steps choose no values)."""
+        return self.once("internal", lambda: z3.Or([self.enabled(m) for m in self.moves if m.kind == "internal"]
+                                                   or [z3.BoolVal(False)]))
 
-    def tock_enabled(self, i: int) -> z3.BoolRef:
-        """Time may pass at step i: maximal progress, urgent calls, deadlines, termination (§2.1)."""
-        return self.at_step("tock", i, self._tock_enabled)
+    def tock_enabled(self) -> z3.BoolRef:
+        """Time may pass: maximal progress, urgent calls, deadlines, termination (§2.1)."""
+        return self.once("tock", self._tock_enabled)
 
-    def _event_offered(self, i: int) -> z3.BoolRef:
-        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "event"] or [z3.BoolVal(False)])
-
-    def _internal_enabled(self, i: int) -> z3.BoolRef:
-        return z3.Or([self.enabled(m, i) for m in self.moves if m.kind == "internal"] or [z3.BoolVal(False)])
-
-    def _tock_enabled(self, i: int) -> z3.BoolRef:
-        cs = [z3.Not(self.halted(i)), z3.Not(self.internal_enabled(i))]
-        f = self.frame(i)
+    def _tock_enabled(self) -> z3.BoolRef:
+        cs = [z3.Not(self.halted()), z3.Not(self.internal_enabled())]
+        f = self.cur
         for c, comp in enumerate(self.components):
-            cs.append(z3.Not(self._at(c, i, comp.automaton.urgent)))
-            cs.append(z3.Implies(self._at(c, i, comp.automaton.deadlined), f[f"{comp.name}.deadline"] > 0))
+            cs.append(z3.Not(self.located(c, comp.automaton.urgent)))
+            cs.append(z3.Implies(self.located(c, comp.automaton.deadlined), f[names.deadline(comp.name)] > 0))
             for td in comp.automaton.trigger_deadlines:
-                bound = self.evaluator(c, i).scalar(td.bound)
-                cs.append(z3.Not(z3.And(self._armed(c, td, i), f[f"{comp.name}.armed.{td.transition}"] >= bound)))
+                bound = self.evaluator(c).scalar(td.bound)
+                cs.append(z3.Not(z3.And(self.armed(c, td), f[names.armed(comp.name, td.transition)] >= bound)))
         return z3.And(cs)
 
     # ------------------------------------------------------------ formulas
 
     def init(self) -> z3.BoolRef:
-        """The initial configuration (and the constants' values or ranges)."""
-        f = self.frame(0)
+        """The initial configuration (and the constants' values or ranges), over `cur`."""
+        f = self.cur
         cs = list(self.constraints)
         for comp in self.components:
-            cs += [f[f"{comp.name}.loc"] == 0, f[f"{comp.name}.wait"] == 0, f[f"{comp.name}.deadline"] == 0]
-            cs += [f[f"{comp.name}.clock.{clock}"] == 0 for clock in comp.automaton.clocks]
-            cs += [f[f"{comp.name}.armed.{td.transition}"] == 0 for td in comp.automaton.trigger_deadlines]
+            cs += [f[names.location(comp.name)] == 0, f[names.wait(comp.name)] == 0,
+                   f[names.deadline(comp.name)] == 0]
+            cs += [f[names.clock(comp.name, clock)] == 0 for clock in comp.automaton.clocks]
+            cs += [f[names.armed(comp.name, td.transition)] == 0 for td in comp.automaton.trigger_deadlines]
         for base, (t, initial, c) in self.initial.items():
-            value = self.value(base, t, 0)
+            value = self.value(base, t)
             if initial is not None:
-                cs.append(equal(value, self.evaluator(c, 0).value(initial)))
+                cs.append(equal(value, self.evaluator(c).value(initial)))
             else:
                 cs += domain(value, t, self.ranges, base.replace(".", "::", 1) if "." in base else base)
         for link in self.network.links:
             if link.asynchronous:
-                cs.append(z3.Not(f[f"buffer{link.index}.full"]))
+                cs.append(z3.Not(f[names.buffer_full(link.index)]))
         cs += [ext.init(self) for ext in self.extensions]
         return z3.And(cs)
 
@@ -658,18 +595,18 @@ class System:
         """What holds in every configuration whatever the history: the constants' constraints."""
         return list(self.constraints)
 
-    def step(self, i: int) -> z3.BoolRef:
-        """One step from i to i + 1: the move that `act@i` names."""
-        return z3.And([self.at_step("step", i, self._network_step), *(ext.step(self, i) for ext in self.extensions)])
+    def trans(self) -> z3.BoolRef:
+        """The template step from `cur` to `nxt`: the move that `act` names, and every extension's step."""
+        return self.once("trans", lambda: z3.And([self._network_step(), *(ext.step(self) for ext in self.extensions)]))
 
-    def _network_step(self, i: int) -> z3.BoolRef:
-        s, t = self.frame(i), self.frame(i + 1)
-        act = self.action(i)
+    def _network_step(self) -> z3.BoolRef:
+        s, t = self.cur, self.nxt
+        act = self.act
         cs = [act >= 0, act <= self.TOCK]
         changes: dict[str, list[tuple[z3.BoolRef, z3.ExprRef]]] = {}
         for m in self.moves:
             taken = act == m.index
-            eff = self.effect(m, i)
+            eff = self.effect(m)
             cs.append(z3.Implies(taken, z3.And(eff.enabled + eff.choose)))
             for name, term in eff.post.items():
                 if not term.eq(s[name]):
@@ -683,23 +620,9 @@ class System:
             cs.append(t[name] == new)
         return z3.And(cs)
 
-    def side_constraints(self) -> list[z3.BoolRef]:
-        """Constraints added by calls of uninterpreted functions; collect after building formulas."""
-        out = [c for c in self.side if c.get_id() not in self._side_seen]
-        self._side_seen.update(c.get_id() for c in out)
-        self.side[:] = []
-        return out
-
-
-def canonical(name: str) -> str:
-    """CSP names compare by their last two parts (`pkg::EXAX::move` is `EXAX::move`)."""
-    return "::".join(name.split("::")[-2:])
-
 
 def _end_event(link: Link) -> ast.Event:
     return link.receiver.event if isinstance(link.receiver, (Port, External)) else link.sender.event
-
-
 
 
 def _set_field(record: Value, path: tuple[str, ...], new: Value) -> Value:

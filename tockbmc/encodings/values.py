@@ -7,45 +7,21 @@ enumerations and given types are integers (enumeration literal i is i).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Union
 
 import z3
 
-from tockbmc.encodings.automaton import Unsupported, entry_clock
+from tockbmc.encodings.automaton import entry_clock
 from tockbmc.model import ast
+from tockbmc.model.errors import Unsupported
+from tockbmc.model.ranges import TYPE_RANGE_NAMES, Range, Ranges
+
+__all__ = ["TYPE_RANGE_NAMES", "Range", "Ranges", "Value"]  # the ranges are the model layer's; re-exported
 
 Value = Union[z3.ExprRef, dict[str, "Value"]]
 
 
-@dataclass(frozen=True)
-class Range:
-    """A closed interval bounding values the environment supplies."""
-
-    low: Fraction
-    high: Fraction
-
-    def __str__(self) -> str:
-        return f"{_num(self.low)}..{_num(self.high)}"
-
-
-def _num(x: Fraction) -> str:
-    return str(x.numerator) if x.denominator == 1 else str(float(x))
-
-
-@dataclass(frozen=True)
-class Ranges:
-    """Ranges by built-in or model type name (`core_int`, `MyType`) and by path (`EXAX::move.time`)."""
-
-    by_type: dict[str, Range] = field(default_factory=dict)
-    by_path: dict[str, Range] = field(default_factory=dict)
-
-    def describe(self) -> dict[str, str]:
-        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()}}
-
-
-TYPE_RANGE_NAMES = {"int": "core_int", "nat": "core_nat", "real": "core_real"}
 
 
 def sort_of(t: ast.Type) -> z3.SortRef:

@@ -1,7 +1,9 @@
-"""An explicit-state interpreter of RoboChart models: the second opinion on the symbolic encoding.
+"""The explicit-state engine: an interpreter of RoboChart models on concrete values, and search over it.
 
-It implements `/work/shared/semantics.md` §2 directly on the resolved model (`tockbmc.model.ast`)
-and shares no code with `tockbmc.encodings`, `tockbmc.properties` or `tockbmc.bmc`.
+The interpreter (`interpreter.py`) implements `semantics.md` §2 directly on the resolved model
+(`tockbmc.model.ast`) and shares no code with the symbolic encoding (`tockbmc.encodings`); the
+search (`engine.py`) reads assertions through `properties.queries` and specifications through
+the CSP monitors of `properties.spec`, and `replay.py` follows BMC's counterexamples.
 """
 
 from tockbmc.explicit.interpreter import (

@@ -19,14 +19,15 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import cast
 
-from tockbmc.bmc.result import Result, TraceStep
-from tockbmc.encodings.values import Ranges
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
 from tockbmc.model import ast
-from tockbmc.model.csp import CspError
-from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, Unenumerable, spec_traces
+from tockbmc.model.errors import Unsupported
+from tockbmc.model.ranges import Ranges
+from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.goals import Query
+from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
-from tockbmc.properties.queries import NotSupported, Query, query
+from tockbmc.properties.queries import query
 from tockbmc.properties.spec import Channel, EnumValue, Monitor, TooLarge
 
 DEFAULT_MAX_STATES = 1_000_000
@@ -46,7 +47,7 @@ def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
         elif isinstance(e, ast.EnumLiteral):
             out[name] = f"{e.enum.name}::{e.literal}"
         else:
-            raise NotSupported(f"the value given to constant {name} is not a literal")
+            raise Unsupported(None, f"the value given to constant {name} is not a literal")
     return out
 
 
@@ -68,7 +69,7 @@ class Search:
                 q.context.sem.alphabet = element_alphabet(q.element)
                 self.monitor = Monitor(q.context.sem, q.context.spec, [])
             except TooLarge:
-                raise NotSupported("the specification has too many states") from None
+                raise Unsupported(None, "the specification has too many states") from None
         self.literals = _literals(q)
         self.transitions = 0
         self.complete = True  # every configuration within the bound was expanded
@@ -245,11 +246,18 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
     deadline = time.monotonic() + timeout if timeout is not None else None
     search: Search | None = None
 
-    def result(verdict: str, reason: str, trace: tuple = ()) -> Result:
+    def result(verdict: Verdict, reason: str, trace: tuple = ()) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
-        return Result(a.name, a.text, verdict, bound if verdict != "unsupported" else None, ranges.describe(),
-                      time.perf_counter() - start, reason, trace=trace, engine="explicit", pos=str(a.pos),
-                      extra=extra)
+        if trace:
+            proof = Proof.TRACE
+        elif verdict in (Verdict.HOLDS, Verdict.VIOLATED):  # shown by the search having run out
+            proof = Proof.EXHAUSTIVE if search is not None and search.complete else Proof.BOUNDED
+        else:
+            proof = Proof.NONE
+        return Result(assertion=a.name, text=a.text, verdict=verdict,
+                      bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=ranges.describe(),
+                      seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
+                      engine="explicit", pos=str(a.pos), extra=extra)
 
     try:
         q = query(project, a)
@@ -259,20 +267,20 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
         search = Search(interp, q, bound, max_states, deadline)
         if q.inclusion is not None and q.goals:  # equals: this direction first
             forward = _decide(a, q, search, result)
-            if forward.verdict != "holds":
+            if forward.verdict != Verdict.HOLDS:
                 return forward
             search = Search(interp, q, bound, max_states, deadline)
         if q.inclusion is not None:
             return _included(a, q, search, result)
         return _decide(a, q, search, result)
-    except NotSupported as exc:
-        return result("unsupported", str(exc))
-    except (NotInterpretable, CspError) as exc:
-        return result("unsupported", f"{exc.what} ({exc.pos})")
+    except Unsupported as exc:
+        return result(Verdict.UNSUPPORTED, exc.reason)
+    except NotInterpretable as exc:
+        return result(Verdict.UNSUPPORTED, f"{exc.what} ({exc.pos})")
     except TimeoutError:
-        return result("unknown", "timed out")
+        return result(Verdict.UNKNOWN, "timed out")
     except MemoryError:
-        return result("unknown", f"stopped at the state limit ({max_states} configurations); the search is not "
+        return result(Verdict.UNKNOWN, f"stopped at the state limit ({max_states} configurations); the search is not "
                                  "complete")
 
 
@@ -283,23 +291,20 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
     sem.alphabet = element_alphabet(q.element)
     channels = [Channel(prefix, arity) for prefix, arity in sem.alphabet] + [Channel(("tock",), 0)]
     wanted = max(1, min(INCLUSION_LENGTH, search.bound // 2))
-    try:
-        traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
-    except Unenumerable as exc:
-        raise NotSupported(f"the traces of the specification cannot be listed: {exc}") from None
+    traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
     if length < wanted:
-        return result("unknown", f"{q.spec_name} has too many traces of {wanted} events")
+        return result(Verdict.UNKNOWN, f"{q.spec_name} has too many traces of {wanted} events")
     for t in traces:
         if not _performs(search, t):
             shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
                                     f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(t.events))
-            verdict = "holds" if a.negated else "violated"
+            verdict = Verdict.HOLDS if a.negated else Verdict.VIOLATED
             return result(verdict, f"{q.spec_name} has this trace{' and then terminates' if t.ticks else ''}, "
                                    f"and {q.element.name} cannot perform it", shown)
     if a.negated:
-        return result("unknown", f"every trace of {q.spec_name} with up to {length} events is one of "
+        return result(Verdict.UNKNOWN, f"every trace of {q.spec_name} with up to {length} events is one of "
                                  f"{q.element.name}'s; a bounded search alone gives no verdict")
-    return result("holds", f"every trace of {q.spec_name} with up to {length} events is a trace of "
+    return result(Verdict.HOLDS, f"every trace of {q.spec_name} with up to {length} events is a trace of "
                            f"{q.element.name} ({len(traces)} traces listed)")
 
 
@@ -340,7 +345,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 else f"for every run of up to {search.bound} visible steps")
 
     def done(holds_reason: str) -> Result:
-        return result("holds", f"{holds_reason}; {scope()}")
+        return result(Verdict.HOLDS, f"{holds_reason}; {scope()}")
 
     def internal(succ: list) -> bool:
         return any(s.kind == "internal" for s, _ in succ)
@@ -368,7 +373,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         hit = search.run(after_end)
         spec = a.other
         if hit is not None:
-            verdict = "holds" if negated else "violated"
+            verdict = Verdict.HOLDS if negated else Verdict.VIOLATED
             trace = search.trace(hit[0])
             head = tuple(TraceStep(0, ".".join(str(x) for x in e), "event", "before the model starts", {}, {})
                          for e in context.impl.head)
@@ -380,36 +385,36 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                                        f"{spec} cannot do", head + trace)
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
         if negated:
-            return result("violated" if search.complete else "unknown", f"every trace is a trace of {spec}; {scope()}")
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"every trace is a trace of {spec}; {scope()}")
         return done(f"every trace is a trace of {spec}")
     if q.context is not None and (q.context.impl.head or q.context.impl.continues):
-        raise NotSupported("a process with a prefix or a continuation after termination is checked for "
+        raise Unsupported(None, "a process with a prefix or a continuation after termination is checked for "
                            "refinement only")
     if kind == "terminates" and not negated:
         hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
         if hit is not None:
-            return result("violated", f"{name} has not terminated and refuses every event, tock included",
+            return result(Verdict.VIOLATED, f"{name} has not terminated and refuses every event, tock included",
                           search.trace(hit[0]))
         ends = [k for k in search.depth if terminated(k)]
         if ends:
             best = min(ends, key=lambda k: search.depth[k])
-            return result("holds", f"no configuration short of termination refuses every event; witness: {name} "
+            return result(Verdict.HOLDS, f"no configuration short of termination refuses every event; witness: {name} "
                                    "has terminated", search.trace(best))
         if search.complete:
-            return result("violated", f"termination is unreachable ({scope()})")
-        return result("unknown", f"termination not found within {search.bound} visible steps")
+            return result(Verdict.VIOLATED, f"termination is unreachable ({scope()})")
+        return result(Verdict.UNKNOWN, f"termination not found within {search.bound} visible steps")
     if kind == "terminates":  # does not terminate
         hit = search.run(lambda key, succ: "terminated" if terminated(key) else None)
         if hit is not None:
-            return result("violated", f"{name} has terminated", search.trace(hit[0]))
+            return result(Verdict.VIOLATED, f"{name} has terminated", search.trace(hit[0]))
         return done(f"{name} never terminates")
     if kind == "timelock-free":
         hit = search.run(lambda key, succ: "timelock" if not internal(succ) and not tock(succ) else None)
         if hit is not None:
             why = f"{name} has terminated, so tock is refused" if terminated(hit[0]) else f"{name} refuses tock here"
-            return result("holds" if negated else "violated", why, search.trace(hit[0]))
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
         if negated:
-            return result("violated" if search.complete else "unknown", f"no configuration refuses tock; {scope()}")
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
     if kind == "deadlock-free":
         hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
@@ -422,9 +427,9 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 why = f"{name} can repeat internal steps for ever (divergence)"
             hit = (loop, why) if loop is not None else None
         if hit is not None:
-            return result("holds" if negated else "violated", why, search.trace(hit[0]))
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
         if negated:
-            return result("violated" if search.complete else "unknown", f"no deadlock; {scope()}")
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
         return done("no deadlock")
     if kind == "reachable":
         state = a.subject
@@ -435,13 +440,13 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
 
         hit = search.run(entered)
         if hit is not None:
-            return result("violated" if negated else "holds", f"state {state} is entered", search.trace(hit[0]))
+            return result(Verdict.VIOLATED if negated else Verdict.HOLDS, f"state {state} is entered", search.trace(hit[0]))
         if negated:
             return done(f"state {state} is never entered")
         if search.complete:
-            return result("violated", f"state {state} is never entered ({scope()})")
-        return result("unknown", f"state {state} not entered within {search.bound} visible steps")
-    raise NotSupported(f"'{kind}' assertions are not supported by the explicit engine")
+            return result(Verdict.VIOLATED, f"state {state} is never entered ({scope()})")
+        return result(Verdict.UNKNOWN, f"state {state} not entered within {search.bound} visible steps")
+    raise Unsupported(None, f"'{kind}' assertions are not supported by the explicit engine")
 
 
 def is_state(machine: str, active: str, state: str) -> bool:

@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable, Hashable, Iterator, Mapping
 
-from tockbmc.bmc.result import TraceStep
 from tockbmc.explicit.interpreter import Config, Interpreter, Step
+from tockbmc.model.result import TraceStep
 from tockbmc.properties.process import Context
 
 LIMIT = 200_000  # configurations explored before replay gives up (reported as a failure to follow)

@@ -5,11 +5,11 @@ from __future__ import annotations
 import random
 import time
 
-from tockbmc.bmc.result import Result, TraceStep
-from tockbmc.encodings.values import Ranges
 from tockbmc.explicit.engine import python_settings, ranges_dict
 from tockbmc.explicit.interpreter import Interpreter
 from tockbmc.model import ast
+from tockbmc.model.ranges import Ranges
+from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 
 
 def pick(project: ast.Project, name: str | None) -> ast.StateMachine | ast.Controller | ast.Module:
@@ -51,5 +51,6 @@ def run_random(project: ast.Project, name: str | None, steps: int, seed: int, ra
             trace.append(TraceStep(i + 1, None, "internal", s.note, states, {}))
         else:
             trace.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values))
-    return Result(f"simulate {element.name}", f"a random run of {element.name} (seed {seed})", "holds", None,
-                  ranges.describe(), time.perf_counter() - start, why, trace=tuple(trace), engine="explicit")
+    return Result(assertion=f"simulate {element.name}", text=f"a random run of {element.name} (seed {seed})",
+                  verdict=Verdict.HOLDS, bound=None, ranges=ranges.describe(), seconds=time.perf_counter() - start,
+                  reason=why, trace=tuple(trace), proof=Proof.TRACE, engine="explicit")

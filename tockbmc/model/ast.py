@@ -10,25 +10,9 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:
-    from tockbmc.model.diagnostics import Diagnostic
-
-
-@dataclass(frozen=True)
-class Pos:
-    """A source span: 1-based line and column of its start, and of its end."""
-
-    path: str
-    line: int
-    column: int
-    end_line: int = 0
-    end_column: int = 0
-
-    def __str__(self) -> str:
-        return f"{self.path}:{self.line}:{self.column}"
-
+from tockbmc.model.diagnostics import Diagnostic
+from tockbmc.model.position import Pos as Pos  # re-exported: every node carries one
 
 # --------------------------------------------------------------------- types
 

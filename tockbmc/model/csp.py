@@ -16,14 +16,22 @@ from importlib import resources
 from lark import Lark, Token, Tree, UnexpectedInput
 
 from tockbmc.model import ast
+from tockbmc.model.errors import Unsupported
 
 
-class CspError(Exception):
+class CspError(Unsupported):
     """Something outside the subset, or wrong, at a position in a CSP block."""
 
     def __init__(self, pos: ast.Pos, what: str):
-        super().__init__(f"{pos}: {what}")
-        self.pos, self.what = pos, what
+        super().__init__(pos, what)
+
+    def __str__(self) -> str:
+        return f"{self.pos}: {self.what}"
+
+
+def canonical(name: str) -> str:
+    """CSP names compare by their last two parts (`pkg::EXAX::move` is `EXAX::move`)."""
+    return "::".join(name.split("::")[-2:])
 
 
 @dataclass(frozen=True)

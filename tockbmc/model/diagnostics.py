@@ -6,7 +6,7 @@ import difflib
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from tockbmc.model.ast import Pos
+from tockbmc.model.position import Pos
 
 
 @dataclass(frozen=True)

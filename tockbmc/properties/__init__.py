@@ -1,1 +1,1 @@
-"""properties layer: built in a later issue; see DEVELOPERS.md."""
+"""Properties: each assertion as goals over the transition system, and CSP specifications as monitors."""

@@ -14,13 +14,16 @@ from __future__ import annotations
 
 import z3
 
-from tockbmc.encodings.system import System
-from tockbmc.properties.queries import Goal, stuck
+from tockbmc.encodings import names
+from tockbmc.encodings.system import TransitionSystem
+from tockbmc.encodings.unroller import Unroller
+from tockbmc.model import ast
+from tockbmc.properties.goals import Goal, stuck, true_at
 
 
-def _nothing_ever(system: System, k: int) -> z3.BoolRef:
-    """From step k only tock is possible, for every number of tocks to come."""
-    return system.at_step("nothing ever", k, lambda i: _without_quantifier(_nothing_ever_at(system, i)))
+def _nothing_ever(system: TransitionSystem) -> z3.BoolRef:
+    """From now on only tock is possible, for every number of tocks to come."""
+    return system.once("nothing ever", lambda: _without_quantifier(_nothing_ever_now(system)))
 
 
 QE_MS = 2000  # milliseconds for eliminating the quantifier of one time-only formula
@@ -55,29 +58,29 @@ def _quantified(term: z3.ExprRef) -> bool:
     return False
 
 
-def _nothing_ever_at(system: System, k: int) -> z3.BoolRef:
-    now = z3.And(z3.Not(system.internal_enabled(k)), z3.Not(system.event_offered(k)))
-    f = system.frame(k)
-    clocks = [f[f"{comp.name}.clock.{clock}"] for comp in system.components for clock in comp.automaton.clocks]
+def _nothing_ever_now(system: TransitionSystem) -> z3.BoolRef:
+    now = z3.And(z3.Not(system.internal_enabled()), z3.Not(system.event_offered()))
+    f = system.cur
+    clocks = [f[names.clock(comp.name, clock)] for comp in system.components for clock in comp.automaton.clocks]
     if not clocks:
         return now
-    later = z3.Int(f"{system.tag}later@{k}")
+    later = z3.Int("later")
     shifted = z3.substitute(now, *[(c, c + later) for c in clocks])  # type: ignore[operator]
     return z3.ForAll([later], z3.Implies(later >= 0, shifted))
 
 
-def time_only(system: System, k: int) -> z3.BoolRef:
-    f = system.frame(k)
+def time_only(system: TransitionSystem) -> z3.BoolRef:
+    f = system.cur
     calm = []
     for c, comp in enumerate(system.components):
         a = comp.automaton
-        calm.append(z3.Not(z3.And(system._at(c, k, a.waiting), f[f"{comp.name}.wait"] > 0)))
-        calm.append(z3.Not(system._at(c, k, a.deadlined)))
-        calm += [z3.Not(system._armed(c, td, k)) for td in a.trigger_deadlines]
-    return z3.And(z3.Not(system.halted(k)), system.tock_enabled(k), *calm, _nothing_ever(system, k))
+        calm.append(z3.Not(z3.And(system.located(c, a.waiting), f[names.wait(comp.name)] > 0)))
+        calm.append(z3.Not(system.located(c, a.deadlined)))
+        calm += [z3.Not(system.armed(c, td)) for td in a.trigger_deadlines]
+    return z3.And(z3.Not(system.halted()), system.tock_enabled(), *calm, _nothing_ever(system))
 
 
-def may_diverge(system: System, limit: int = 200_000) -> bool:
+def may_diverge(system: TransitionSystem, limit: int = 200_000) -> bool:
     """Whether some run might repeat internal steps for ever; False means none does.
 
     Cheap first: a cycle of internal moves returns every machine that took part to
@@ -91,7 +94,7 @@ def may_diverge(system: System, limit: int = 200_000) -> bool:
     return _abstract_cycle(system, limit)
 
 
-def _abstract_cycle(system: System, limit: int) -> bool:
+def _abstract_cycle(system: TransitionSystem, limit: int) -> bool:
     """A cycle of internal moves among reachable (location, buffer-full) configurations, or too many."""
     links = [link for link in system.network.links if link.asynchronous]
     slot = {link.index: i for i, link in enumerate(links)}
@@ -144,7 +147,7 @@ def _abstract_cycle(system: System, limit: int) -> bool:
     return _has_cycle(internal)  # type: ignore[arg-type]
 
 
-def _machine_cycle(system: System) -> bool:
+def _machine_cycle(system: TransitionSystem) -> bool:
     for c in range(len(system.components)):
         graph: dict[int, set[int]] = {}
         for m in system.moves:
@@ -186,57 +189,58 @@ class LoopWatch:
     one comparison rather than one per earlier step, and k-induction applies.
     """
 
-    def __init__(self, system: System):
-        self.watched = [n for n in system.sorts if not n.startswith("loop.")]
+    def __init__(self, system: TransitionSystem):
+        self.watched = [n for n in system.sorts if not names.is_loop_slot(n)]
         self.sorts = {n: system.sorts[n] for n in self.watched}
         self.internal = [m.index for m in system.moves if m.kind == "internal"]
 
     def slots(self) -> dict[str, z3.SortRef]:
-        return {"loop.saved": z3.BoolSort(), **{f"loop.copy.{n}": s for n, s in self.sorts.items()}}
+        return {names.LOOP_SAVED: z3.BoolSort(), **{names.loop_copy(n): s for n, s in self.sorts.items()}}
 
-    def init(self, system: System) -> z3.BoolRef:
-        return z3.Not(system.frame(0)["loop.saved"])
+    def init(self, system: TransitionSystem) -> z3.BoolRef:
+        return z3.Not(system.cur[names.LOOP_SAVED])
 
-    def step(self, system: System, i: int) -> z3.BoolRef:
-        f, g = system.frame(i), system.frame(i + 1)
-        save = z3.Bool(f"{system.tag}loop.save@{i}")
-        saved = z3.Or(f["loop.saved"], save)
-        copy = [g[f"loop.copy.{n}"] == z3.If(f["loop.saved"], f[f"loop.copy.{n}"], f[n]) for n in self.watched]
-        internal = z3.Or([system.action(i) == x for x in self.internal] or [z3.BoolVal(False)])
-        return z3.And(g["loop.saved"] == saved, z3.Implies(saved, internal), *copy)
+    def step(self, system: TransitionSystem) -> z3.BoolRef:
+        f, g = system.cur, system.nxt
+        save = system.input(names.LOOP_SAVE, ast.BOOLEAN)
+        assert isinstance(save, z3.BoolRef)
+        saved = z3.Or(f[names.LOOP_SAVED], save)
+        copy = [g[names.loop_copy(n)] == z3.If(f[names.LOOP_SAVED], f[names.loop_copy(n)], f[n]) for n in self.watched]
+        internal = z3.Or([system.act == x for x in self.internal] or [z3.BoolVal(False)])
+        return z3.And(g[names.LOOP_SAVED] == saved, z3.Implies(saved, internal), *copy)
 
-    def back(self, system: System, k: int) -> z3.BoolRef:
-        f = system.frame(k)
-        return z3.And(f["loop.saved"], *[f[n] == f[f"loop.copy.{n}"] for n in self.watched])
+    def back(self, system: TransitionSystem) -> z3.BoolRef:
+        f = system.cur
+        return z3.And(f[names.LOOP_SAVED], *[f[n] == f[names.loop_copy(n)] for n in self.watched])
 
 
-def watch_loops(system: System) -> None:
+def watch_loops(system: TransitionSystem) -> None:
     if may_diverge(system) and not any(isinstance(e, LoopWatch) for e in system.extensions):
         system.add(LoopWatch(system))
 
 
-def diverges(system: System, k: int) -> z3.BoolRef:
+def diverges(system: TransitionSystem) -> z3.BoolRef:
     """A configuration seen earlier comes back with only internal steps in between (a lasso)."""
     watch = next((e for e in system.extensions if isinstance(e, LoopWatch)), None)
-    return watch.back(system, k) if watch is not None else z3.BoolVal(False)
+    return watch.back(system) if watch is not None else z3.BoolVal(False)
 
 
-def deadlocked(system: System, k: int) -> z3.BoolRef:
-    return z3.Or(stuck(system, k), time_only(system, k), diverges(system, k))
+def deadlocked(system: TransitionSystem) -> z3.BoolRef:
+    return z3.Or(stuck(system), time_only(system), diverges(system))
 
 
-def _describe(system: System, model: z3.ModelRef, k: int) -> str:
-    name = system.name
-    if z3.is_true(model.eval(diverges(system, k), model_completion=True)):
-        return f"{name} can repeat internal steps for ever (divergence)"
-    if z3.is_true(model.eval(system.tock_enabled(k), model_completion=True)):
-        return f"{name} offers nothing but tock, now and at every later time"
-    return f"{name} has not terminated and refuses every event, tock included"
+def _describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+    system = unroller.system
+    if true_at(unroller, model, diverges(system), k):
+        return f"{system.name} can repeat internal steps for ever (divergence)"
+    if true_at(unroller, model, system.tock_enabled(), k):
+        return f"{system.name} offers nothing but tock, now and at every later time"
+    return f"{system.name} has not terminated and refuses every event, tock included"
 
 
-def stopped(system: System, k: int) -> z3.BoolRef:
-    """Refusal or time only: read only the configuration at k, so k-induction applies."""
-    return z3.Or(stuck(system, k), time_only(system, k))
+def stopped(system: TransitionSystem) -> z3.BoolRef:
+    """Refusal or time only: read only the configuration, so k-induction applies."""
+    return z3.Or(stuck(system), time_only(system))
 
 
 def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
@@ -245,11 +249,11 @@ def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     length), then divergence (bounded: a lasso reads earlier configurations), which is searched only
     when some machine has a cycle of internal steps."""
     if negated:
-        return (Goal(deadlocked, "holds", "unknown", "violated", _describe, prepare=watch_loops,
-                     sought="a deadlock (refusal, time only, or divergence)"),)
-    return (Goal(stopped, "violated", "holds", "holds", _describe,
-                 claim="no configuration refuses everything or offers only tock for ever"),
-            Goal(diverges, "violated", "holds", "holds", _describe, prepare=watch_loops,
-                 claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
-                 skipped="no run can repeat internal steps for ever (even with data ignored, internal steps "
-                         "form no cycle)"))
+        return (Goal.witness(deadlocked, _describe, prepare=watch_loops,
+                             sought="a deadlock (refusal, time only, or divergence)"),)
+    return (Goal.violation(stopped, _describe,
+                           claim="no configuration refuses everything or offers only tock for ever"),
+            Goal.violation(diverges, _describe, prepare=watch_loops,
+                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
+                           skipped="no run can repeat internal steps for ever (even with data ignored, internal "
+                                   "steps form no cycle)"))

@@ -5,7 +5,7 @@ element named directly) under the operators of `semantics.md` §4 that the
 encoding understands: hiding `\\` and projection `|\\` (events become internal,
 hence urgent), `[| A |] SKIP` and `[| A |] STOP` (events of A are blocked),
 `P ; T` (after the element terminates, T runs), and prefix `e -> P` outside a
-Timed section.  `Context` tells the `System` which moves are hidden or
+Timed section.  `Context` tells the `TransitionSystem` which moves are hidden or
 blocked; `MonitorExtension` runs a specification's `Monitor` beside the
 element, so `P refines Q` becomes "the monitor never reaches DEAD".
 """
@@ -18,11 +18,13 @@ from typing import cast
 import z3
 from lark import Tree
 
-from tockbmc.bmc.result import TraceStep
+from tockbmc.encodings import names
 from tockbmc.encodings.composition import External
-from tockbmc.encodings.system import System, canonical
+from tockbmc.encodings.system import TransitionSystem
+from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
-from tockbmc.model.csp import CspError, Definition, pos_of
+from tockbmc.model.csp import CspError, Definition, canonical, pos_of
+from tockbmc.model.result import TraceStep
 from tockbmc.properties.spec import (
     EVENTS,
     OTHER,
@@ -158,7 +160,7 @@ def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]
 
 
 class Context:
-    """An `Implementation`'s operators as a `System` sees them, plus an optional monitor."""
+    """An `Implementation`'s operators as a `TransitionSystem` sees them, plus an optional monitor."""
 
     def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = ""):
         self.impl, self.sem, self.spec, self.spec_name = impl, sem, spec, spec_name
@@ -200,13 +202,13 @@ class Context:
                 todo += [(q, [*trace, "tock"]) for q in sem.after(p, TOCK)]
         return None
 
-    def attach(self, system: System) -> MonitorExtension | None:
+    def attach(self, system: TransitionSystem) -> MonitorExtension | None:
         if self.spec is None:
             return None
         return MonitorExtension(system, self)
 
 
-def channels_of(system: System) -> tuple[list[Channel], dict[int, int]]:
+def channels_of(system: TransitionSystem) -> tuple[list[Channel], dict[int, int]]:
     """The channels of the visible moves (`tock` last, unless hidden), and each move's channel."""
     channels: list[Channel] = []
     channel_of: dict[int, int] = {}
@@ -224,7 +226,7 @@ def channels_of(system: System) -> tuple[list[Channel], dict[int, int]]:
     return channels, channel_of
 
 
-def alphabet_of(system: System) -> list[tuple[tuple, int]]:
+def alphabet_of(system: TransitionSystem) -> list[tuple[tuple, int]]:
     """Every channel the element declares, as (fixed fields, number of values): its machines'
     events in both directions, its operation calls and `terminate`, whether used or not."""
     out: list[tuple[tuple, int]] = [((canonical(f"{system.name}::terminate"),), 0)]
@@ -246,7 +248,7 @@ def alphabet_of(system: System) -> list[tuple[tuple, int]]:
 class MonitorExtension:
     """The specification's monitor state `monitor`, updated by every visible step."""
 
-    def __init__(self, system: System, context: Context):
+    def __init__(self, system: TransitionSystem, context: Context):
         self.context = context
         sem = context.sem
         self.channels, self.channel_of = channels_of(system)
@@ -266,25 +268,24 @@ class MonitorExtension:
                                              "to monitor") from None
 
     def slots(self) -> dict[str, z3.SortRef]:
-        return {"monitor": z3.IntSort()}
+        return {names.MONITOR: z3.IntSort()}
 
-    def init(self, system: System) -> z3.BoolRef:
-        return system.frame(0)["monitor"] == self.start
+    def init(self, system: TransitionSystem) -> z3.BoolRef:
+        return system.cur[names.MONITOR] == self.start
 
-    def step(self, system: System, i: int) -> z3.BoolRef:
-        mon = system.frame(i)["monitor"]
-        act = system.action(i)
+    def step(self, system: TransitionSystem) -> z3.BoolRef:
+        mon = system.cur[names.MONITOR]
         new: z3.ArithRef = mon  # type: ignore[assignment]
         for m in system.moves:
             c = self.channel_of.get(m.index)
             if c is None:
                 continue
-            values = [v for v, _t in system.label_values(m, i)]
+            values = [v for v, _t in system.label_values(m)]
             by_state: z3.ArithRef = z3.IntVal(Monitor.DEAD)
             for s in reversed(range(self.count)):
                 by_state = z3.If(mon == s, self._delta(s, c, values), by_state)
-            new = z3.If(act == m.index, by_state, new)
-        return system.frame(i + 1)["monitor"] == new
+            new = z3.If(system.act == m.index, by_state, new)
+        return system.nxt[names.MONITOR] == new
 
     def _delta(self, s: int, c: int, values: list) -> z3.ArithRef:
         """The next monitor state after channel c's event with `values`; the atoms' conditions are
@@ -311,17 +312,17 @@ class MonitorExtension:
             return ["any event but tock"]
         return names[:most] + (["…"] if len(names) > most else [])
 
-    def violated(self, system: System, k: int) -> z3.BoolRef:
-        mon = system.frame(k)["monitor"]
+    def violated(self, system: TransitionSystem) -> z3.BoolRef:
+        mon = system.cur[names.MONITOR]
         ends = [mon == s for s in sorted(self.bad_end)]
-        return z3.Or(mon == Monitor.DEAD, z3.And(system.halted(k), z3.Or(ends))) if ends else mon == Monitor.DEAD
+        return z3.Or(mon == Monitor.DEAD, z3.And(system.halted(), z3.Or(ends))) if ends else mon == Monitor.DEAD
 
-    def around(self, system: System, model: z3.ModelRef, k: int,
+    def around(self, unroller: Unroller, model: z3.ModelRef, k: int,
                trace: tuple[TraceStep, ...]) -> tuple[TraceStep, ...]:
         """A decoded run with the events before the element (a prefix) and after it (`P ; T`)."""
         before = tuple(TraceStep(0, _event_text(e), "event", "before the model starts", {}, {})
                        for e in self.context.impl.head)
-        state = model.eval(system.frame(k)["monitor"], model_completion=True).as_long()
+        state = model.eval(unroller.frame(k)[names.MONITOR], model_completion=True).as_long()
         last = trace[-1].states if trace else {}
         after = tuple(TraceStep(k + 1 + j, e, "tock" if e == "tock" else "event",
                                 "after the model terminates", last, {})

@@ -1,86 +1,33 @@
-"""What a violation (or witness) of each assertion looks like, as targets for the engines.
+"""Each assertion as a `Query`: the element to unroll, its CSP context, and the goals to search.
 
-A `Query` names the element to unroll and a `target(system, k)`: a formula
-over the configuration at step `k` (and, for deadlock, the steps before it)
-that holds exactly when a run of `k` steps ends in a violation of the
-assertion (or, for `is reachable`, in a witness).  Assertion forms that are
-not supported yet raise `NotSupported` with the reason.
+Assertion forms that are not supported yet raise `Unsupported` with the reason.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import z3
 
-from tockbmc.encodings.system import System
+from tockbmc.encodings import names
+from tockbmc.encodings.system import Target, TransitionSystem
+from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
-from tockbmc.properties.process import Context, Implementation, implementation
-from tockbmc.properties.spec import EnumValue, Env, Evaluator, Proc, Semantics
-
-
-class NotSupported(Exception):
-    """An assertion tockbmc cannot check yet; the message says why."""
-
-
-Target = Callable[[System, int], z3.BoolRef]
-
-
-@dataclass(frozen=True)
-class Goal:
-    """One search: a target and what reaching it (or proving it unreachable) means."""
-
-    target: Target
-    found: str  # verdict when the target is reached: "violated" or "holds"
-    not_found: str  # verdict when it is not reached within the bound: "holds" or "unknown"
-    unreachable: str  # verdict when it is proved unreachable at every depth
-    describe: Callable[[System, z3.ModelRef, int], str]  # what reaching the target means, for the report
-    stateless: bool = True  # the target reads only the configuration at k (so induction applies)
-    claim: str = "no run reaches a violation"  # what not reaching the target shows
-    applies: Callable[[System], bool] = lambda system: True  # searched only when this holds
-    skipped: str = ""  # what not applying shows
-    sought: str = "it"  # what the target is, for "no run of any length reaches …"
-    prepare: Callable[[System], None] | None = None  # adds what the target needs (before the unrolling)
-
-
-@dataclass(frozen=True)
-class Query:
-    assertion: ast.Assertion
-    element: ast.StateMachine | ast.Controller | ast.Module
-    goals: tuple[Goal, ...]  # searched in order; the first that reaches its target decides
-    after: str = "holds"  # verdict when no goal's target is reached
-    after_reason: str = ""
-    context: Context | None = None  # the CSP operators around the element, and a monitor
-    settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
-    defined: tuple[tuple[str, ast.OperationDef], ...] = ()  # a machine in its controller: the operations it defines
-    inclusion: Proc | None = None  # a specification every trace of which must be the element's
-    spec_name: str = ""
-
-
-def terminated(system: System, k: int) -> z3.BoolRef:
-    return system.halted(k)
-
-
-def timelocked(system: System, k: int) -> z3.BoolRef:
-    """A stable configuration that refuses tock (a terminated one included)."""
-    return z3.And(z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)))
-
-
-def stuck(system: System, k: int) -> z3.BoolRef:
-    """Not terminated, and refusing every event, tock included."""
-    return z3.And(z3.Not(system.halted(k)), z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)),
-                  z3.Not(system.event_offered(k)))
+from tockbmc.model.errors import Unsupported
+from tockbmc.properties.deadlock import deadlock_goals
+from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
+from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
+from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
 
 
 def _reaches(state: str) -> Target:
-    def target(system: System, k: int) -> z3.BoolRef:
+    def target(system: TransitionSystem) -> z3.BoolRef:
         found = []
         for c, comp in enumerate(system.components):
             locs = [loc.index for loc in comp.automaton.locations
                     if any(_names(a, state, comp.name, comp.machine.name) for a in loc.active)]
-            found += [system.loc(c, k) == i for i in locs]
+            found += [system.loc(c) == i for i in locs]
         return z3.Or(found) if found else z3.BoolVal(False)
 
     return target
@@ -100,18 +47,18 @@ def _names(path: str, state: str, *component: str) -> bool:
     return any(qualifier == name.rsplit("::", 1)[-1] for name in component)
 
 
-def _what_refuses(system: System, model: z3.ModelRef, k: int) -> str:
-    if z3.is_true(model.eval(system.halted(k), model_completion=True)):
-        return f"{system.name} has terminated, so tock is refused"
-    return f"{system.name} refuses tock here"
+def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+    if true_at(unroller, model, unroller.system.halted(), k):
+        return f"{unroller.system.name} has terminated, so tock is refused"
+    return f"{unroller.system.name} refuses tock here"
 
 
 def query(project: ast.Project, a: ast.Assertion) -> Query:
-    """The query for assertion `a`, or `NotSupported`."""
+    """The query for assertion `a`; raises `Unsupported` for forms not checked yet."""
     if a.timing == "untimed":
-        raise NotSupported("untimed assertions need RoboTool's untimed semantics, which is not built yet")
+        raise Unsupported(None, "untimed assertions need RoboTool's untimed semantics, which is not built yet")
     if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
-        raise NotSupported(f"the {a.semantic_model} model is not supported")
+        raise Unsupported(None, f"the {a.semantic_model} model is not supported")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
     sem = Semantics(ev)
     if a.kind in ("refines", "equals"):
@@ -120,53 +67,45 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
                                                                                                a.subject_is_process)
     impl = _side(ev, project, subject or "", subject_is_process, a.pos)
     if not isinstance(impl, Implementation):
-        raise NotSupported(f"'{subject}' is a CSP process with no model element in it; checking a "
+        raise Unsupported(None, f"'{subject}' is a CSP process with no model element in it; checking a "
                            "specification on its own is not supported")
     element, name, settings = _resolve(project, impl)
     if impl.head:
-        raise NotSupported(f"'{subject}' starts with a prefix before the model process; only refinement checks "
+        raise Unsupported(None, f"'{subject}' starts with a prefix before the model process; only refinement checks "
                            "(with the model on the left) support that")
     context = Context(impl, sem) if subject_is_process else None
     if context is not None and impl.continues:
         if a.kind != "timelock-free":
-            raise NotSupported(f"'{subject}' runs a process after the model terminates; only refinement and "
+            raise Unsupported(None, f"'{subject}' runs a process after the model terminates; only refinement and "
                                "timelock-freedom checks support that")
         return _timelock_after(a, element, name, context, settings, _defined(project, impl))
-    q = _query(a, element, name)
-    return Query(a, element, q.goals, q.after, q.after_reason, context, settings,
+    return Query(assertion=a, element=element, goals=_goals(a, name), context=context, settings=settings,
                  defined=_defined(project, impl))
 
 
-def _query(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str) -> Query:
-
-    def says(text: str) -> Callable[[System, z3.ModelRef, int], str]:
-        return lambda system, model, k: text
-
+def _goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
     if a.kind == "terminates":
-        stuck_goal = Goal(stuck, "violated", "holds", "holds", says(f"{name} has not terminated and refuses "
-                                                                  "every event, tock included"),
-                          claim="no configuration short of termination refuses every event")
         if a.negated:
-            return Query(a, element, (Goal(terminated, "violated", "holds", "holds", says(f"{name} has terminated")),))
-        reach = Goal(terminated, "holds", "unknown", "violated", says(f"{name} has terminated"),
-                     sought="termination")
-        return Query(a, element, (stuck_goal, reach))
+            return (Goal.violation(terminated, says(f"{name} has terminated")),)
+        stuck_goal = Goal.violation(stuck, says(f"{name} has not terminated and refuses every event, tock included"),
+                                    claim="no configuration short of termination refuses every event")
+        return (stuck_goal, Goal.witness(terminated, says(f"{name} has terminated"), sought="termination"))
     if a.kind == "timelock-free":
-        goal = Goal(timelocked, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
-                    "violated" if a.negated else "holds", _what_refuses, sought="a configuration that refuses tock")
-        return Query(a, element, (goal,))
+        return (_negatable(a.negated, timelocked, _what_refuses, sought="a configuration that refuses tock"),)
     if a.kind == "deadlock-free":
-        from tockbmc.properties.deadlock import deadlock_goals
-        return Query(a, element, deadlock_goals(name, a.negated))
+        return deadlock_goals(name, a.negated)
     if a.kind == "reachable":
-        target = _reaches(a.subject)
+        entered = says(f"state {a.subject} is entered")
         if a.negated:
-            goal = Goal(target, "violated", "holds", "holds", says(f"state {a.subject} is entered"))
-        else:
-            goal = Goal(target, "holds", "unknown", "violated", says(f"state {a.subject} is entered"),
-                        sought=f"state {a.subject}")
-        return Query(a, element, (goal,))
-    raise NotSupported(f"'{a.kind}' assertions are not supported yet")
+            return (Goal.violation(_reaches(a.subject), entered),)
+        return (Goal.witness(_reaches(a.subject), entered, sought=f"state {a.subject}"),)
+    raise Unsupported(None, f"'{a.kind}' assertions are not supported yet")
+
+
+def _negatable(negated: bool, target: Target, describe: Callable[[Unroller, z3.ModelRef, int], str],
+               **more: object) -> Goal:
+    """`P is X`: reaching the target violates it; `P is not X`: reaching it is the witness."""
+    return (Goal.witness if negated else Goal.violation)(target, describe, **more)
 
 
 def _side(ev: Evaluator, project: ast.Project, name: str, is_process: bool, pos: ast.Pos) -> Implementation | Proc:
@@ -177,7 +116,7 @@ def _resolve(project: ast.Project, impl: Implementation) -> tuple[ast.StateMachi
                                                                    str, tuple[tuple[str, ast.Expr], ...]]:
     element = _element(project, impl.element)
     if element is None or isinstance(element, ast.OperationDef):
-        raise NotSupported(f"'{impl.element}' is an operation; operations are checked through the machines "
+        raise Unsupported(None, f"'{impl.element}' is an operation; operations are checked through the machines "
                            "that call them, which is not encoded yet")
     return element, element.name, _arguments(element, impl)
 
@@ -192,7 +131,7 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     right = _side(ev, project, a.other or "", a.other_is_process, a.pos)
     if isinstance(left, Implementation) == isinstance(right, Implementation):
         what = "two model elements" if isinstance(left, Implementation) else "two CSP specifications"
-        raise NotSupported(f"refinement between {what} is not supported; one side must be a model element "
+        raise Unsupported(None, f"refinement between {what} is not supported; one side must be a model element "
                            "(possibly in a CSP context) and the other a CSP specification")
     impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)
     assert isinstance(impl, Implementation) and isinstance(spec, Proc)
@@ -203,13 +142,13 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
         goals = (_refinement_goal(a, name),)
     inclusion = a.kind == "equals" or impl is right
     if inclusion and impl.head:
-        raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
+        raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
                            "comes before the model")
     if inclusion and impl.continues:
-        raise NotSupported(f"checking that {name} has every trace of {spec_name} is not supported when a process "
+        raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a process "
                            "follows the model's termination")
-    return Query(a, element, goals, context=Context(impl, sem, spec if goals else None, spec_name or ""),
-                 defined=_defined(project, impl),
+    return Query(assertion=a, element=element, goals=goals,
+                 context=Context(impl, sem, spec if goals else None, spec_name or ""), defined=_defined(project, impl),
                  settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "")
 
 
@@ -219,45 +158,45 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
     """Timelock-freedom of `P ; T`: a terminated element is a timelock only if what follows can be one."""
     rest = context.tail_timelock()
 
-    def target(system: System, k: int) -> z3.BoolRef:
-        stable = z3.And(z3.Not(system.internal_enabled(k)), z3.Not(system.tock_enabled(k)))
-        return stable if rest is not None else z3.And(stable, z3.Not(system.halted(k)))
+    def target(system: TransitionSystem) -> z3.BoolRef:
+        stable = z3.And(z3.Not(system.internal_enabled()), z3.Not(system.tock_enabled()))
+        return stable if rest is not None else z3.And(stable, z3.Not(system.halted()))
 
-    def describe(system: System, model: z3.ModelRef, k: int) -> str:
-        if z3.is_true(model.eval(system.halted(k), model_completion=True)):
+    def describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        if true_at(unroller, model, unroller.system.halted(), k):
             after = " ".join(rest or []) or "nothing"
             return f"{name} has terminated; what follows ({after}) then refuses tock"
         return f"{name} refuses tock here"
 
-    goal = Goal(target, "holds" if a.negated else "violated", "unknown" if a.negated else "holds",
-                "violated" if a.negated else "holds", describe, sought="a configuration that refuses tock")
-    return Query(a, element, (goal,), context=context, settings=settings, defined=defined)
+    goal = _negatable(a.negated, target, describe, sought="a configuration that refuses tock")
+    return Query(assertion=a, element=element, goals=(goal,), context=context, settings=settings, defined=defined)
 
 
 def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
-    def violated(system: System, k: int) -> z3.BoolRef:
-        assert system.extension is not None
-        return system.extension.violated(system, k)  # type: ignore[attr-defined, no-any-return]
+    def violated(system: TransitionSystem) -> z3.BoolRef:
+        assert isinstance(system.extension, MonitorExtension)
+        return system.extension.violated(system)
 
-    def describe(system: System, model: z3.ModelRef, k: int) -> str:
-        ext = system.extension
-        assert ext is not None
-        state = model.eval(system.frame(k)["monitor"], model_completion=True).as_long()
-        if state == -1:
-            before = model.eval(system.frame(k - 1)["monitor"], model_completion=True).as_long() if k else -1
-            m = system.moves[model.eval(system.action(k - 1), model_completion=True).as_long()] if k else None
+    def describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        ext = unroller.system.extension
+        assert isinstance(ext, MonitorExtension)
+        system = unroller.system
+        state = number_at(unroller, model, system.cur[names.MONITOR], k)
+        if state == Monitor.DEAD:
+            before = number_at(unroller, model, system.cur[names.MONITOR], k - 1) if k else -1
+            m = system.moves[number_at(unroller, model, system.act, k - 1)] if k else None
             last = "tock" if m is not None and m.kind == "tock" else "the last event"
-            allowed = ext.allowed(before)  # type: ignore[attr-defined]
+            allowed = ext.allowed(before)
             offer = (f"; there it can do {allowed[0]}" if allowed == ["any event but tock"]
                      else f"; there it can do only {', '.join(allowed)}" if allowed else "; there it can do nothing")
             return f"{a.other} cannot do {last} after the events before it{offer}"
-        rest = " ".join(ext.bad_end.get(state, []))  # type: ignore[attr-defined]
+        rest = " ".join(ext.bad_end.get(state, []))
         return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
 
+    claim = f"every trace is a trace of {a.other}"
     if a.negated:
-        return Goal(violated, "holds", "unknown", "violated", describe, sought=f"a trace {a.other} cannot do",
-                    claim=f"every trace is a trace of {a.other}")
-    return Goal(violated, "violated", "holds", "holds", describe, claim=f"every trace is a trace of {a.other}")
+        return Goal.witness(violated, describe, sought=f"a trace {a.other} cannot do", claim=claim)
+    return Goal.violation(violated, describe, claim=claim)
 
 
 def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
@@ -297,7 +236,7 @@ def _any_block(project: ast.Project) -> ast.CspBlock:
 def _process(ev: Evaluator, project: ast.Project, name: str) -> Implementation | Proc:
     d = ev.lookup_top(name)
     if d is None:
-        raise NotSupported(f"process '{name}' is not defined at the top level of any CSP block")
+        raise Unsupported(None, f"process '{name}' is not defined at the top level of any CSP block")
     if d.params:
         raise CspError(d.pos, f"process '{name}' takes arguments")
     ev.block = d.block

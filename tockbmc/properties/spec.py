@@ -23,9 +23,8 @@ from typing import cast
 
 from lark import Token, Tree
 
-from tockbmc.encodings.system import canonical
 from tockbmc.model import ast
-from tockbmc.model.csp import CspError, Definition, pos_of
+from tockbmc.model.csp import CspError, Definition, canonical, pos_of
 
 
 class _Other:

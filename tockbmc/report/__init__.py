@@ -1,1 +1,1 @@
-"""Presenting results: diagnostics, model structure, and (later) traces."""
+"""Report: printers of results, diagnostics and the model's structure (they never solve)."""

@@ -9,15 +9,17 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from tockbmc.bmc.result import Result
+from tockbmc.model.result import Result, Verdict
 
-VERDICT_STYLE = {"holds": "green", "violated": "bold red", "unknown": "yellow", "unsupported": "magenta"}
+VERDICT_STYLE = {Verdict.HOLDS: "green", Verdict.VIOLATED: "bold red", Verdict.UNKNOWN: "yellow",
+                 Verdict.UNSUPPORTED: "magenta"}
 
 
 def summary(results: Iterable[Result]) -> dict[str, int]:
-    counts = {"holds": 0, "violated": 0, "unknown": 0, "unsupported": 0}
+    """How many results have each verdict, by the verdict's name."""
+    counts = {v.value: 0 for v in Verdict}
     for r in results:
-        counts[r.verdict] += 1
+        counts[r.verdict.value] += 1
     return counts
 
 
@@ -38,7 +40,7 @@ def print_results(results: list[Result], console: Console) -> None:
     for col in columns:
         table.add_column(col, justify="left" if col in ("Assertion", "Result") else "right")
     for r in results:
-        row: list[str | Text] = [r.assertion, Text(r.verdict, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
+        row: list[str | Text] = [r.assertion, Text(r.verdict.value, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
                str(r.bound) if r.bound is not None else "–", str(len(r.trace)) if r.trace else "–"]
         if explicit:
             row += [f"{r.extra['states']:,}" if "states" in r.extra else "–",
@@ -51,14 +53,14 @@ def print_results(results: list[Result], console: Console) -> None:
     for r in results:
         console.print()
         head = Text(f"{r.assertion}: ", style="bold")
-        head.append(r.verdict, style=VERDICT_STYLE[r.verdict])
+        head.append(r.verdict.value, style=VERDICT_STYLE[r.verdict])
         head.append(f"   {r.text}", style="dim")
         console.print(head)
-        if r.verdict == "holds":
+        if r.verdict == Verdict.HOLDS:
             console.print(Text(f"  {r.reason or f'holds for every run of up to {r.bound} steps'}; "
                                f"{_scope(r).split('; ')[1]}"))
         elif r.reason and not r.trace:
-            console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == "unsupported" else "")))
+            console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == Verdict.UNSUPPORTED else "")))
         if r.trace:
             print_trace(r, console)
 

@@ -1,4 +1,4 @@
-"""Decode a Z3 model of an unrolling into a tock trace in FDR's naming."""
+"""The witness of a search: a Z3 model of an unrolling decoded into a tock trace in FDR's naming."""
 
 from __future__ import annotations
 
@@ -6,12 +6,14 @@ from fractions import Fraction
 
 import z3
 
-from tockbmc.bmc.result import TraceStep
+from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge
 from tockbmc.encodings.composition import External
-from tockbmc.encodings.system import Move, System
+from tockbmc.encodings.system import Move
+from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
+from tockbmc.model.result import TraceStep
 
 
 def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
@@ -51,8 +53,9 @@ def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
     return str(v)
 
 
-def initial_choices(system: System, model: z3.ModelRef) -> dict[str, object]:
+def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
     """The values a run starts from that the model leaves open: constants and variables without a value."""
+    system = u.system
     out: dict[str, object] = {}
     for c, comp in enumerate(system.components):
         for v in (*comp.machine.variables, *comp.machine.interface_variables):
@@ -61,7 +64,7 @@ def initial_choices(system: System, model: z3.ModelRef) -> dict[str, object]:
                 out[v.name] = python_value(value, model, v.type)
     for base, (t, initial, _c) in system.initial.items():
         if initial is None:
-            out[base] = python_value(system.value(base, t, 0), model, t)
+            out[base] = python_value(u.value_at(system.value(base, t), 0), model, t)
     return out
 
 
@@ -74,14 +77,15 @@ def value_text(value: Value, model: z3.ModelRef, t: ast.Type) -> str:
     return scalar_text(value, model, t)
 
 
-def _edge_event(system: System, c: int, e: Edge, i: int, model: z3.ModelRef, link_name: str | None) -> str:
+def _edge_event(u: Unroller, c: int, e: Edge, i: int, model: z3.ModelRef, link_name: str | None) -> str:
     """FDR's name for a machine's visible step: `N::e.in.v`, `N::e.out.v`, `N::opCall.a`, `N::terminate`."""
+    system = u.system
     if e.kind == "terminate":
         return f"{system.name}::terminate"
     if e.kind == "call":
         assert e.operation is not None
-        ev = system.evaluator(c, i)
-        args = [value_text(ev.value(a), model, a.type) for a in e.args]
+        ev = system.evaluator(c)
+        args = [value_text(u.value_at(ev.value(a), i), model, a.type) for a in e.args]
         return f"{system.name}::{e.operation.name}Call" + "".join(f".{a}" for a in args)
     assert e.event is not None
     name = link_name or system.network.visible_name(c, e.event.name)
@@ -89,14 +93,14 @@ def _edge_event(system: System, c: int, e: Edge, i: int, model: z3.ModelRef, lin
     if e.event.type is None:
         return f"{name}.{direction}"
     if e.kind == "in":
-        value = system.chosen(f"in.{name}", e.event.type, i)
+        value = u.input(names.input_value(name), i)
     else:
         assert e.value is not None
-        value = system.evaluator(c, i).value(e.value)
+        value = u.value_at(system.evaluator(c).value(e.value), i)
     return f"{name}.{direction}.{value_text(value, model, e.event.type)}"
 
 
-def _move_event(system: System, m: Move, i: int, model: z3.ModelRef) -> str:
+def _move_event(u: Unroller, m: Move, i: int, model: z3.ModelRef) -> str:
     if m.role in ("env-write", "env-read"):
         assert m.link is not None
         end = m.link.sender if m.role == "env-write" else m.link.receiver
@@ -104,15 +108,16 @@ def _move_event(system: System, m: Move, i: int, model: z3.ModelRef) -> str:
         direction = "in" if m.role == "env-write" else "out"
         if end.event.type is None:
             return f"{end.name}.{direction}"
-        value = (system.chosen(f"in.{end.name}", end.event.type, i) if m.role == "env-write"
-                 else system.value(f"buffer{m.link.index}.value", end.event.type, i))
+        value = (u.input(names.input_value(end.name), i) if m.role == "env-write"
+                 else u.value_at(u.system.value(names.buffer_value(m.link.index), end.event.type), i))
         return f"{end.name}.{direction}.{value_text(value, model, end.event.type)}"
     c, e = m.parts[0]
-    return _edge_event(system, c, e, i, model, None)
+    return _edge_event(u, c, e, i, model, None)
 
 
-def _note(system: System, m: Move) -> str:
+def _note(u: Unroller, m: Move) -> str:
     """What an internal step does, for the dimmed context lines."""
+    system = u.system
     notes = []
     for c, e in m.parts:
         who = system.components[c].name
@@ -134,19 +139,20 @@ def _note(system: System, m: Move) -> str:
     return ", ".join(notes)
 
 
-def _state(system: System, c: int, loc: int) -> str:
+def _state(u: Unroller, c: int, loc: int) -> str:
     """The innermost active state, or where the machine is when no state is active."""
-    location = system.components[c].automaton.locations[loc]
+    location = u.system.components[c].automaton.locations[loc]
     return location.active[-1] if location.active else location.description
 
 
-def _changed(system: System, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]:
+def _changed(u: Unroller, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]:
     """Variables that step i wrote or changed (at step 0 also the declared initial values)."""
+    system = u.system
     out = {}
-    before, after = system.frame(i), system.frame(i + 1)
-    written = set(system.effect(m, i).post)
+    before, after = u.frame(i), u.frame(i + 1)
+    written = set(system.effect(m).post)
     for base, (t, initial, _c) in system.initial.items():
-        for path, _term in leaves(system.value(base, t, 0)):
+        for path, _term in leaves(system.value(base, t)):
             name = base + path
             new = model.eval(after[name], model_completion=True)
             old = model.eval(before[name], model_completion=True)
@@ -156,23 +162,25 @@ def _changed(system: System, model: z3.ModelRef, i: int, m: Move) -> dict[str, s
     return out
 
 
-def decode(system: System, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]:
+def decode(u: Unroller, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]:
     """The first `depth` steps of the run that `model` describes."""
+    system = u.system
     steps = []
     for i in range(depth):
-        index = model.eval(system.action(i), model_completion=True).as_long()
+        index = model.eval(u.action(i), model_completion=True).as_long()
         m = system.moves[index]
-        states = {comp.name: _state(system, c, model.eval(system.loc(c, i + 1), model_completion=True).as_long())
+        after = u.frame(i + 1)
+        states = {comp.name: _state(u, c, model.eval(after[names.location(comp.name)], model_completion=True).as_long())
                   for c, comp in enumerate(system.components)}
-        changed = _changed(system, model, i, m)
+        changed = _changed(u, model, i, m)
         if m.kind == "tock":
             steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed, ("tock",)))
         elif m.kind == "internal":
-            steps.append(TraceStep(i + 1, None, "internal", _note(system, m), states, changed))
+            steps.append(TraceStep(i + 1, None, "internal", _note(u, m), states, changed))
         else:
             transition = next((e.transition for _, e in m.parts if e.transition), "")
             channel, _ = system.label(m)
-            values = tuple(python_value(v, model, t) for v, t in system.label_values(m, i))
-            steps.append(TraceStep(i + 1, _move_event(system, m, i, model), "event", transition or "",
+            values = tuple(python_value(u.value_at(v, i), model, t) for v, t in system.label_values(m))
+            steps.append(TraceStep(i + 1, _move_event(u, m, i, model), "event", transition or "",
                                    states, changed, channel, values))
     return tuple(steps)

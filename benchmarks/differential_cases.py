@@ -28,8 +28,9 @@ from pathlib import Path
 
 import tockbmc
 from tockbmc.check import check
-from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit
+from tockbmc.model.ranges import Range, Ranges
+from tockbmc.model.result import Proof, Result
 
 RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)", "op(x)", "c <{1}"]
@@ -133,18 +134,18 @@ class Outcome:
     note: str = ""
 
 
-def _definite_bmc(r: tockbmc.Result) -> str | None:  # type: ignore[name-defined]
+def _definite_bmc(r: Result) -> str | None:
     if r.trace:
         return f"found:{r.verdict}"
-    if "every length" in (r.reason or "") or "any length" in (r.reason or ""):
+    if r.proof.every_length:
         return f"proved:{r.verdict}"
     return None
 
 
-def _definite_explicit(r: tockbmc.Result) -> str | None:  # type: ignore[name-defined]
-    if r.trace or "never entered (every configuration" in (r.reason or ""):
-        return f"found:{r.verdict}" if r.trace else f"proved:{r.verdict}"
-    if "every configuration reachable at any length" in (r.reason or ""):
+def _definite_explicit(r: Result) -> str | None:
+    if r.trace:
+        return f"found:{r.verdict}"
+    if r.proof == Proof.EXHAUSTIVE:
         return f"proved:{r.verdict}"
     return None
 
@@ -181,7 +182,7 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
     return out
 
 
-def _same_length(project: object, name: str, b: tockbmc.Result, e: tockbmc.Result,  # type: ignore[name-defined]
+def _same_length(project: object, name: str, b: Result, e: Result,
                  bound: int, timeout: float) -> tuple[bool | None, str]:
     """Whether two counterexamples of one verdict have as many visible steps (None: not comparable)."""
     kinds = _deadlock_kind(b), _deadlock_kind(e)
@@ -211,7 +212,7 @@ def _same_length(project: object, name: str, b: tockbmc.Result, e: tockbmc.Resul
     return True, note
 
 
-def _deadlock_kind(r: tockbmc.Result) -> str | None:  # type: ignore[name-defined]
+def _deadlock_kind(r: Result) -> str | None:
     why = r.reason or ""
     for phrase, kind in (("refuses every event", "refusal"), ("nothing but tock", "time only"),
                          ("divergence", "divergence")):
@@ -220,7 +221,7 @@ def _deadlock_kind(r: tockbmc.Result) -> str | None:  # type: ignore[name-define
     return None
 
 
-def _visible(r: tockbmc.Result) -> int:  # type: ignore[name-defined]
+def _visible(r: Result) -> int:
     return sum(1 for s in r.trace if s.kind != "internal")
 
 

@@ -1,0 +1,78 @@
+"""The names of a configuration's scalars and of a step's inputs: made here and nowhere else.
+
+A configuration is a flat set of named scalars (`EXAX.loc`, `EXAX.clock.C`,
+`buffer0.full`, `monitor`); the unroller appends `@k` to name one at step k.
+"""
+
+from __future__ import annotations
+
+
+def location(component: str) -> str:
+    """The machine's location in its automaton."""
+    return f"{component}.loc"
+
+
+def wait(component: str) -> str:
+    """Tocks left of a running `wait`."""
+    return f"{component}.wait"
+
+
+def deadline(component: str) -> str:
+    """Tocks left of a statement deadline."""
+    return f"{component}.deadline"
+
+
+def clock(component: str, name: str) -> str:
+    return f"{component}.clock.{name}"
+
+
+def armed(component: str, transition: str) -> str:
+    """Tocks that a trigger deadline's transition has waited armed."""
+    return f"{component}.armed.{transition}"
+
+
+def variable(component: str, name: str, operation: str = "") -> str:
+    """A machine's own variable (or an inlined operation's: `M.op().x`)."""
+    return f"{component}.{operation}().{name}" if operation else f"{component}.{name}"
+
+
+def constant(component: str, name: str) -> str:
+    return f"{component}::{name}"
+
+
+def buffer_full(link: int) -> str:
+    return f"buffer{link}.full"
+
+
+def buffer_value(link: int) -> str:
+    return f"buffer{link}.value"
+
+
+def input_value(event: str) -> str:
+    """The value the environment offers on an input event during a step."""
+    return f"in.{event}"
+
+
+def fresh_value(slot: str) -> str:
+    """Any value of a variable's type, chosen during a step (an operation's uninitialised variable)."""
+    return f"{slot}.fresh"
+
+
+def wait_length(component: str) -> str:
+    """The length a `wait(a, b)` picks during the step that starts it."""
+    return f"{component}.wait_length"
+
+
+MONITOR = "monitor"  # a specification monitor's state (properties.process)
+FOLLOW = "follow"  # how much of a specification trace the model has done (properties.inclusion)
+LOOP_SAVED = "loop.saved"  # divergence: a configuration has been saved (properties.deadlock)
+LOOP_SAVE = "loop.save"  # divergence: the configuration is saved in this step
+
+
+def loop_copy(slot: str) -> str:
+    """The saved copy of a scalar (divergence)."""
+    return f"loop.copy.{slot}"
+
+
+def is_loop_slot(slot: str) -> bool:
+    return slot.startswith("loop.")

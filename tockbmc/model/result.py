@@ -1,0 +1,98 @@
+"""The verdict of one assertion: what every engine returns and every printer reads.
+
+`Verdict` and `Proof` are the contract's vocabulary.  A verdict carries the
+exit status it gives `tockbmc check` (as CrossHair's message types carry
+theirs); a proof kind says how far a "holds" reaches: up to the bound, or for
+runs of every length (and by what argument).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import Any
+
+
+class Verdict(StrEnum):
+    """The outcome of one assertion (a `str`, so JSON and text print its value)."""
+
+    HOLDS = "holds"
+    VIOLATED = "violated"
+    UNKNOWN = "unknown"
+    UNSUPPORTED = "unsupported"
+
+    @property
+    def exit_code(self) -> int:
+        """The exit status of a run whose worst verdict is this one."""
+        return {Verdict.HOLDS: 0, Verdict.VIOLATED: 10, Verdict.UNKNOWN: 20, Verdict.UNSUPPORTED: 20}[self]
+
+    @property
+    def severity(self) -> int:
+        """Which verdict decides a run's exit status: a violation over an unknown over a hold."""
+        return {Verdict.HOLDS: 0, Verdict.UNKNOWN: 1, Verdict.UNSUPPORTED: 1, Verdict.VIOLATED: 2}[self]
+
+    @property
+    def opposite(self) -> Verdict:
+        """`holds` for `violated` and back (a negated assertion); others stay."""
+        return {Verdict.HOLDS: Verdict.VIOLATED, Verdict.VIOLATED: Verdict.HOLDS}.get(self, self)
+
+
+def exit_code(verdicts: Iterable[Verdict]) -> int:
+    """0 when every assertion holds, 10 when some is violated, 20 when none is but some is undecided."""
+    worst = max(verdicts, key=lambda v: v.severity, default=Verdict.HOLDS)
+    return worst.exit_code
+
+
+class Proof(StrEnum):
+    """How a verdict was established."""
+
+    BOUNDED = "bounded"  # holds for every run of up to `bound` steps
+    K_INDUCTION = "k-induction"  # holds for runs of every length: the property is k-inductive
+    EXHAUSTIVE = "exhaustive"  # every reachable configuration was explored (explicit engine)
+    TRACE = "trace"  # decided by the trace shown (a counterexample or a witness)
+    NONE = "none"  # undecided, or not checked
+
+    @property
+    def every_length(self) -> bool:
+        """Whether the verdict covers runs of every length, not only those up to the bound."""
+        return self in (Proof.K_INDUCTION, Proof.EXHAUSTIVE)
+
+
+@dataclass(frozen=True)
+class TraceStep:
+    step: int
+    event: str | None  # FDR's name for the event; None for an internal step
+    kind: str  # event | tock | internal
+    note: str  # for internal steps: what happened (transition, entry, assignment…)
+    states: dict[str, str]  # machine -> active state (innermost) after the step
+    changed: dict[str, str]  # variable -> new value
+    channel: tuple = ()  # for an event: its channel as CSP names it, ("EXAX::move", "in"); ("tock",) for tock
+    values: tuple = ()  # for an event: the values it carries, as Python values (for replay)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Result:
+    assertion: str
+    text: str
+    verdict: Verdict
+    bound: int | None  # the bound asked for (None: no search ran)
+    ranges: dict[str, str]
+    seconds: float
+    reason: str | None = None
+    trace: tuple[TraceStep, ...] = ()
+    proof: Proof = Proof.BOUNDED
+    engine: str = "bmc"
+    depth: int | None = None  # how deep the search went: the trace's steps, the depth reached, or k of k-induction
+    pos: str | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "assertion": self.assertion, "text": self.text, "verdict": self.verdict.value,
+            "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "engine": self.engine,
+            "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
+            "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
+                       "changed": s.changed} for s in self.trace],
+            **self.extra,
+        }

@@ -1,0 +1,101 @@
+"""Goals and queries: an assertion as searches for targets, and what each outcome means.
+
+A `Query` names the element to unroll and its `Goal`s, searched in order.  A
+goal's target is a formula over a configuration (`encodings.system.Target`)
+that holds exactly where a run ends in a violation of the assertion (or, for
+`is reachable`, in a witness); the goal says which verdict reaching it,
+not reaching it within the bound, and proving it unreachable each give.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import z3
+
+from tockbmc.encodings.system import Target, TransitionSystem
+from tockbmc.encodings.unroller import Unroller
+from tockbmc.model import ast
+from tockbmc.model.result import Verdict
+from tockbmc.properties.process import Context
+from tockbmc.properties.spec import Proc
+
+Describe = Callable[[Unroller, z3.ModelRef, int], str]  # what reaching the target at step k means, for the report
+
+
+def _always(system: TransitionSystem) -> bool:
+    return True
+
+
+@dataclass(frozen=True, kw_only=True)
+class Goal:
+    """One search: a target and what reaching it (or proving it unreachable) means."""
+
+    target: Target
+    found: Verdict  # when the target is reached: violated, or holds (a witness)
+    not_found: Verdict  # when it is not reached within the bound: holds, or unknown
+    unreachable: Verdict  # when it is proved unreachable at every depth
+    describe: Describe
+    stateless: bool = True  # the target reads only the configuration at k (so induction applies)
+    claim: str = "no run reaches a violation"  # what not reaching the target shows
+    applies: Callable[[TransitionSystem], bool] = _always  # searched only when this holds
+    skipped: str = ""  # what not applying shows
+    sought: str = "it"  # what the target is, for "no run of any length reaches …"
+    prepare: Callable[[TransitionSystem], None] | None = None  # adds what the target needs (before the unrolling)
+
+    @staticmethod
+    def violation(target: Target, describe: Describe, **more: object) -> Goal:
+        """Reaching the target violates the assertion; not reaching it within the bound, it holds."""
+        return Goal(target=target, found=Verdict.VIOLATED, not_found=Verdict.HOLDS, unreachable=Verdict.HOLDS,
+                    describe=describe, **more)  # type: ignore[arg-type]
+
+    @staticmethod
+    def witness(target: Target, describe: Describe, **more: object) -> Goal:
+        """Reaching the target shows the assertion holds; a bounded search for it alone decides nothing."""
+        return Goal(target=target, found=Verdict.HOLDS, not_found=Verdict.UNKNOWN, unreachable=Verdict.VIOLATED,
+                    describe=describe, **more)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Query:
+    """How to decide one assertion: the element, its goals, and the CSP context it runs in."""
+
+    assertion: ast.Assertion
+    element: ast.StateMachine | ast.Controller | ast.Module
+    goals: tuple[Goal, ...]  # searched in order; the first that reaches its target decides
+    context: Context | None = None  # the CSP operators around the element, and a monitor
+    settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
+    defined: tuple[tuple[str, ast.OperationDef], ...] = ()  # a machine in its controller: the operations it defines
+    inclusion: Proc | None = None  # a specification every trace of which must be the element's
+    spec_name: str = ""
+
+
+def says(text: str) -> Describe:
+    """A description that does not depend on the run."""
+    return lambda unroller, model, k: text
+
+
+def terminated(system: TransitionSystem) -> z3.BoolRef:
+    return system.halted()
+
+
+def timelocked(system: TransitionSystem) -> z3.BoolRef:
+    """A stable configuration that refuses tock (a terminated one included)."""
+    return z3.And(z3.Not(system.internal_enabled()), z3.Not(system.tock_enabled()))
+
+
+def stuck(system: TransitionSystem) -> z3.BoolRef:
+    """Not terminated, and refusing every event, tock included."""
+    return z3.And(z3.Not(system.halted()), z3.Not(system.internal_enabled()), z3.Not(system.tock_enabled()),
+                  z3.Not(system.event_offered()))
+
+
+def true_at(unroller: Unroller, model: z3.ModelRef, term: z3.BoolRef, k: int) -> bool:
+    """Whether a formula over the template configuration holds at step k of the run `model` describes."""
+    return z3.is_true(model.eval(unroller.at(term, k), model_completion=True))
+
+
+def number_at(unroller: Unroller, model: z3.ModelRef, term: z3.ExprRef, k: int) -> int:
+    """An integer term over the template step, its value at step k."""
+    return model.eval(unroller.at(term, k), model_completion=True).as_long()  # type: ignore[attr-defined, no-any-return]
