@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import sys
@@ -17,6 +18,7 @@ from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.check import check as run_check
 from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.model.core import core_assertions
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import exit_code
 from tockbmc.report.diagnostics import render, summary
@@ -30,11 +32,13 @@ EXIT_INTERNAL_ERROR = 1
 T = TypeVar("T")
 
 
-def _load(paths: tuple[str, ...]) -> Project:
-    """Load a project, or print its diagnostics and exit 3."""
+def _load(paths: tuple[str, ...], json_errors: bool = False) -> Project:
+    """Load a project, or print its diagnostics and exit 3 (as a JSON document with `json_errors`)."""
     try:
         project = load(*paths)
     except ModelError as exc:
+        if json_errors:
+            click.echo(json.dumps(results_json([], __version__, "model-error", exc.diagnostics), indent=2))
         click.echo(render(exc.diagnostics, exc.sources), err=True)
         click.echo(summary(exc.diagnostics), err=True)
         sys.exit(EXIT_MODEL_ERROR)
@@ -132,9 +136,12 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
 @click.option("--shortest", type=click.Choice(["steps", "events"]), default="steps", show_default=True,
               help="BMC's counterexamples: fewest steps (found first), or fewest events and tocks within the "
                    "bound (searches on to the bound; slower). The explicit engine's always have fewest events.")
+@click.option("--core", is_flag=True, help="Also check RoboTool's core assertions of every machine, controller and "
+                                           "module (deadlock-free, deterministic, divergence-free, timelock-free); "
+                                           "a model without assertions gets them anyway.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
           set_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str, max_states: int,
-          shortest: str) -> None:
+          shortest: str, core: bool) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -142,7 +149,11 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     ranges = _ranges(range_specs)
     settings = _settings(set_specs)
-    project = _load(paths)
+    project = _load(paths, json_errors=fmt == "json")
+    if core or not project.assertions:
+        if not project.assertions:
+            click.echo("tockbmc: the model has no assertions: checking RoboTool's core assertions", err=True)
+        project = dataclasses.replace(project, assertions=project.assertions + core_assertions(project))
     known = {a.name for a in project.assertions}
     for n in names:
         if n not in known:

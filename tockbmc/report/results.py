@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import json
 from collections.abc import Iterable
+from importlib import resources
 from typing import Any
 
 from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
+from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.result import Result, Verdict
 
 VERDICT_STYLE = {Verdict.HOLDS: "green", Verdict.VIOLATED: "bold red", Verdict.UNKNOWN: "yellow",
@@ -23,9 +26,26 @@ def summary(results: Iterable[Result]) -> dict[str, int]:
     return counts
 
 
-def to_json(results: list[Result], version: str) -> dict[str, Any]:
-    return {"tool": "tockbmc", "version": version, "results": [r.to_json() for r in results],
-            "summary": {**summary(results), "total": len(results)}}
+SCHEMA_VERSION = 1  # of `results.schema.json`: raised whenever a field changes meaning or goes away
+
+
+def to_json(results: list[Result], version: str, status: str = "checked",
+            diagnostics: Iterable[Diagnostic] = ()) -> dict[str, Any]:
+    """The document `check --format json` prints (`results.schema.json`)."""
+    return {"schema_version": SCHEMA_VERSION, "tool": "tockbmc", "version": version, "status": status,
+            "results": [r.to_json() for r in results], "summary": {**summary(results), "total": len(results)},
+            "diagnostics": [diagnostic_json(d) for d in diagnostics]}
+
+
+def diagnostic_json(d: Diagnostic) -> dict[str, Any]:
+    return {"path": d.pos.path, "line": d.pos.line, "column": d.pos.column, "end_line": d.pos.end_line,
+            "end_column": d.pos.end_column, "severity": d.severity, "message": d.message}
+
+
+def schema() -> dict[str, Any]:
+    """The JSON schema of `to_json`'s document."""
+    text = resources.files("tockbmc.report").joinpath("results.schema.json").read_text(encoding="utf-8")
+    return json.loads(text)  # type: ignore[no-any-return]
 
 
 def _scope(r: Result) -> str:
