@@ -162,6 +162,14 @@ def _changed(u: Unroller, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]
     return out
 
 
+def _source(m: Move) -> str:
+    """Where the model says what the move does: its first part's statement or transition, or its connection."""
+    for _c, e in m.parts:
+        if e.pos is not None:
+            return str(e.pos)
+    return str(m.link.pos) if m.link is not None and m.link.pos is not None else ""
+
+
 def decode(u: Unroller, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]:
     """The first `depth` steps of the run that `model` describes."""
     system = u.system
@@ -176,11 +184,11 @@ def decode(u: Unroller, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]
         if m.kind == "tock":
             steps.append(TraceStep(i + 1, "tock", "tock", "", states, changed, ("tock",)))
         elif m.kind == "internal":
-            steps.append(TraceStep(i + 1, None, "internal", _note(u, m), states, changed))
+            steps.append(TraceStep(i + 1, None, "internal", _note(u, m), states, changed, source=_source(m)))
         else:
             transition = next((e.transition for _, e in m.parts if e.transition), "")
             channel, _ = system.label(m)
             values = tuple(python_value(u.value_at(v, i), model, t) for v, t in system.label_values(m))
             steps.append(TraceStep(i + 1, _move_event(u, m, i, model), "event", transition or "",
-                                   states, changed, channel, values))
+                                   states, changed, channel, values, source=_source(m)))
     return tuple(steps)

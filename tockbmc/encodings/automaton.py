@@ -68,6 +68,7 @@ class Edge:
     ends_wait: bool = False  # leaves a `wait` once its tocks have passed
     havoc: tuple[ast.Variable, ...] = ()  # variables that take any value of their type and range (fresh locals)
     exits: tuple[str, ...] = ()  # on a transition's first step: the states it leaves
+    pos: ast.Pos | None = None  # the model text this step runs: a transition, a statement, a final state
 
 
 @dataclass(frozen=True)
@@ -281,8 +282,8 @@ class _Builder:
                 self.final_top[n.path] = self._location(n.path, (n.path,), "final")
         if self.final_top and self.ret is None:
             self.terminated = self._location("terminated", (), "terminated")
-            for loc in self.final_top.values():
-                self.a.edge(loc, self.terminated, "terminate")
+            for path, loc in self.final_top.items():
+                self.a.edge(loc, self.terminated, "terminate", pos=self.m.node(path).pos)
         for n in self.m.nodes:
             if n.during is not None and n.path in self.stable and not n.composite:
                 self._during(n, self.chain(n.path))
@@ -344,7 +345,7 @@ class _Builder:
         resets = tuple(c.name for c in t.clock_resets)
         shared = self._common(t.source, t.target)
         exits = tuple(x for x in active if x not in shared)
-        common = dict(guard=guard, negated_guards=negated, resets=resets, transition=t.name, exits=exits)
+        common = dict(guard=guard, negated_guards=negated, resets=resets, transition=t.name, exits=exits, pos=t.pos)
         if trig is None:
             self.a.edge(here, taken, "tau", **common)
         elif trig.kind == "output":
@@ -371,14 +372,14 @@ class _Builder:
             if s not in active:
                 cur = self._entry(cur, s, active)
                 active = (*active, s)
-        self._enter(cur, target, active)
+        self._enter(cur, target, active, t.pos)
 
     def _entry(self, cur: int, state: str, active: tuple[str, ...]) -> int:
         node = self.m.node(state)
         inside = (*active, state)
         if state in self.since_entry:
             nxt = self._location(f"{state}: entering", inside)
-            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),))
+            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),), pos=node.pos)
             cur = nxt
         elif node.entry is not None:
             # The state is entered when its entry action starts (§3 `is reachable`): the entry runs
@@ -391,11 +392,12 @@ class _Builder:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
         return cur
 
-    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...]) -> None:
+    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...], pos: ast.Pos | None = None) -> None:
+        """Enter `target` at the end of a transition (`pos`)."""
         if target.kind == "junction":
-            self._goto(cur, self.junction[target.path])
+            self._goto(cur, self.junction[target.path], pos)
         elif target.kind == "final" and target.parent is None:
-            self._goto(cur, self.final_top[target.path])
+            self._goto(cur, self.final_top[target.path], pos)
         elif target.path in self.stable:
             cur = self._entry(cur, target.path, active)
             if target.composite:
@@ -409,7 +411,7 @@ class _Builder:
             elif target.during is not None:
                 self._goto(cur, self._during(target, (*active, target.path)))
             else:
-                self._goto(cur, self.stable[target.path])
+                self._goto(cur, self.stable[target.path], pos)
         else:
             raise Unsupported(target.pos, f"entering a {target.kind}")
 
@@ -428,15 +430,15 @@ class _Builder:
                                          if loc.index != self.stable[state.path]]
         return self.during_start[state.path]
 
-    def _goto(self, cur: int, target: int) -> None:
+    def _goto(self, cur: int, target: int, pos: ast.Pos | None = None) -> None:
         """Continue at `target`: redirect the one step into `cur` when that loses nothing."""
         into = [e for e in self.a.edges if e.target == cur]
         leaving = [e for e in self.a.edges if e.source == cur]
         if cur != 0 and len(into) == 1 and not leaving and self.a.locations[cur].kind == "action":
             e = into[0]
-            self.a.edges[e.index] = dataclasses.replace(e, target=target)
+            self.a.edges[e.index] = dataclasses.replace(e, target=target, pos=e.pos or pos)
         else:
-            self.a.edge(cur, target, "tau")
+            self.a.edge(cur, target, "tau", pos=pos)
 
     # ------------------------------------------------------------ statements
 
@@ -452,7 +454,7 @@ class _Builder:
             if self._in_deadline:
                 raise Unsupported(s.pos, "nested deadlines '<{d}' are not encoded yet")
             start = self._location(where, active, deadline=True)
-            self.a.edge(cur, start, "tau", deadline=s.bound)
+            self.a.edge(cur, start, "tau", deadline=s.bound, pos=s.pos)
             self._in_deadline = True
             try:
                 end = self._stmt(start, s.statement, active, where)
@@ -463,28 +465,28 @@ class _Builder:
             return nxt
         nxt = self._location(where, active, deadline=self._in_deadline)
         if isinstance(s, ast.Assign):
-            self.a.edge(cur, nxt, "tau", updates=(s,))
+            self.a.edge(cur, nxt, "tau", updates=(s,), pos=s.pos)
         elif isinstance(s, ast.Send):
-            self.a.edge(cur, nxt, "out", event=s.event, value=s.value)
+            self.a.edge(cur, nxt, "out", event=s.event, value=s.value, pos=s.pos)
         elif isinstance(s, ast.Receive):
-            self.a.edge(cur, nxt, "in", event=s.event, binds=s.variable)
+            self.a.edge(cur, nxt, "in", event=s.event, binds=s.variable, pos=s.pos)
         elif isinstance(s, ast.OperationCall):
             op = self._definition(s)
             if op is None:
-                self.a.edge(cur, nxt, "call", operation=s.operation, args=s.args)
+                self.a.edge(cur, nxt, "call", operation=s.operation, args=s.args, pos=s.pos)
             else:
                 self._goto(self._inline(cur, op, s, active), nxt)
         elif isinstance(s, ast.ClockReset):
-            self.a.edge(cur, nxt, "tau", resets=(s.clock.name,))
+            self.a.edge(cur, nxt, "tau", resets=(s.clock.name,), pos=s.pos)
         elif isinstance(s, ast.Wait):
             waiting = self._location(f"{where}: waiting", active, "waiting", self._in_deadline)
-            self.a.edge(cur, waiting, "wait", wait_low=s.low, wait_high=s.high)
-            self.a.edge(waiting, nxt, "tau", transition="wait over", ends_wait=True)
+            self.a.edge(cur, waiting, "wait", wait_low=s.low, wait_high=s.high, pos=s.pos)
+            self.a.edge(waiting, nxt, "tau", transition="wait over", ends_wait=True, pos=s.pos)
         elif isinstance(s, ast.If):
             then_start = self._location(where, active, deadline=self._in_deadline)
             else_start = self._location(where, active, deadline=self._in_deadline)
-            self.a.edge(cur, then_start, "tau", guard=(s.condition,))
-            self.a.edge(cur, else_start, "tau", negated_guards=((s.condition,),))
+            self.a.edge(cur, then_start, "tau", guard=(s.condition,), pos=s.pos)
+            self.a.edge(cur, else_start, "tau", negated_guards=((s.condition,),), pos=s.pos)
             self._goto(self._stmt(then_start, s.then, active, where), nxt)
             self._goto(self._stmt(else_start, s.otherwise, active, where), nxt)
         else:
@@ -515,7 +517,7 @@ class _Builder:
             updates = tuple(ast.Assign(call.pos, p, (), a) for p, a in zip(op.parameters, call.args, strict=True))
             updates += tuple(ast.Assign(call.pos, v, (), v.initial) for v in locals_ if v.initial is not None)
             havoc = tuple(v for v in locals_ if v.initial is None)
-            self.a.edge(cur, nxt, "tau", updates=updates, havoc=havoc)
+            self.a.edge(cur, nxt, "tau", updates=updates, havoc=havoc, pos=call.pos)
             cur = nxt
         inner = _Builder(_renamed(op, label), self.a, self.defined, (*self.outer, *active), self._in_deadline,
                          (*self.calls, op.qname))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Iterable
 from importlib import resources
 from typing import Any
@@ -85,6 +86,19 @@ def print_results(results: list[Result], console: Console) -> None:
             print_trace(r, console)
 
 
+def where(position: str) -> str:
+    """`path:line` for a reader: the path relative to the working directory when that is shorter."""
+    path, _, rest = position.rpartition(":")  # drop the column
+    path, _, line = path.rpartition(":")
+    if not path:
+        return position
+    try:
+        shorter = os.path.relpath(path)
+    except ValueError:  # another drive
+        shorter = path
+    return f"{shorter if len(shorter) < len(path) else path}:{line}"
+
+
 def print_trace(r: Result, console: Console) -> None:
     for s in r.trace:
         line = Text(f"  {s.step:>3}  ")
@@ -96,5 +110,12 @@ def print_trace(r: Result, console: Console) -> None:
         line.append(f"   [{states}]", style="cyan")
         if s.changed:
             line.append("   " + ", ".join(f"{k} = {v}" for k, v in s.changed.items()), style="yellow")
+        if s.source:
+            line.append(f"   @ {where(s.source)}", style="dim")
         console.print(line)
     console.print(Text(f"  → {r.reason}", style="bold"))
+    last = next((s.source for s in reversed(r.trace) if s.source), "")
+    if r.pos or last:
+        at = [f"assertion at {where(r.pos)}"] if r.pos else []
+        at += [f"last model step at {where(last)}"] if last else []
+        console.print(Text(f"    ({'; '.join(at)})", style="dim"))
