@@ -136,3 +136,15 @@ def test_guarded_input_accepts_only_values_meeting_the_condition(tmp_path) -> No
     assert results["R"].verdict == "holds" and results["N"].verdict == "violated"
     [ev] = events(results["N"])
     assert ev.startswith("M::e.in.") and int(ev.rsplit(".", 1)[1]) > 5
+
+
+def test_input_fields_the_violation_does_not_need_are_marked() -> None:
+    """A1 breaks on a negative time budget whatever the distance: only `time` matters."""
+    result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A1", "--range", "core_int=-1..1",
+                                      "--range", "core_real=-1..1", "--format", "json"])
+    [r] = json.loads(result.output)["results"]
+    [move] = [s for s in r["trace"] if s["event"] and s["event"].startswith("EXAX::move.in")]
+    assert move["free_fields"] == ["dist"]
+    assert move["source"].endswith("intelliwelder.rct:243:3") or ":243:" in move["source"]
+    assert "(dist: any value)" in CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A1", "--range",
+                                                           "core_int=-1..1", "--range", "core_real=-1..1"]).output

@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
+from dataclasses import replace
 
 from tockbmc.bmc.engine import Outcome, Status, bmc
 from tockbmc.bmc.inclusion import included
-from tockbmc.bmc.witness import decode, initial_choices
+from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
 from tockbmc.model import ast
@@ -130,6 +131,9 @@ class _Check:
         u, model = outcome.unroller, outcome.model
         assert u is not None and model is not None
         trace = decode(u, model, outcome.depth)
+        if goal.found == Verdict.VIOLATED:  # mark the input fields the violation does not depend on
+            free = free_fields(u, model, outcome.depth, goal.target(u.system))
+            trace = tuple(replace(s, free=free.get(s.step - 1, ())) for s in trace)
         if isinstance(u.system.extension, MonitorExtension):
             trace = u.system.extension.around(u, model, outcome.depth, trace)
         why = goal.describe(u, model, outcome.depth)

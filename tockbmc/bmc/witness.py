@@ -9,11 +9,12 @@ import z3
 from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge
 from tockbmc.encodings.composition import External
-from tockbmc.encodings.system import Move
+from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
 from tockbmc.model.result import TraceStep
+from tockbmc.properties.process import MonitorExtension
 
 
 def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
@@ -192,3 +193,81 @@ def decode(u: Unroller, model: z3.ModelRef, depth: int) -> tuple[TraceStep, ...]
             steps.append(TraceStep(i + 1, _move_event(u, m, i, model), "event", transition or "",
                                    states, changed, channel, values, source=_source(m)))
     return tuple(steps)
+
+
+def free_fields(u: Unroller, model: z3.ModelRef, depth: int, target: z3.BoolRef,
+                timeout_ms: int = 2000) -> dict[int, tuple[str, ...]]:
+    """For each step of the run that takes an input, the fields whose value does not matter: with
+    every other choice of the run kept, every value of the field's type and range still ends in
+    the target.
+
+    With the moves fixed, a configuration is a function of the one before and of the step's
+    inputs, so each field is asked about with the configurations computed from it by
+    substitution: is there a value of it for which some step is disabled or the target missed?
+    Only runs whose extensions define their next state by one equality (a specification
+    monitor) are analysed; a field whose question Z3 does not answer in time is not marked.
+    """
+    system = u.system
+    if any(not isinstance(ext, MonitorExtension) for ext in system.extensions):
+        return {}
+    moves = [system.moves[model.eval(u.action(j), model_completion=True).as_long()] for j in range(depth)]
+    start = {n: model.eval(term, model_completion=True) for n, term in u.frame(0).items()}
+    fixed: list[list[tuple[z3.ExprRef, z3.ExprRef]]] = []  # per step: template input leaf -> its value
+    fixed_constants: list[tuple[z3.ExprRef, z3.ExprRef]] = []
+    for j in range(depth):
+        pairs = []
+        for name, (_t, value) in system.inputs.items():
+            for (_p, template), (_q, actual) in zip(leaves(value), leaves(u.input(name, j)), strict=True):
+                pairs.append((template, model.eval(actual, model_completion=True)))
+        fixed.append(pairs)
+    for c in system.constants.values():  # the run's constants, as the model chose them
+        for value in c.values():
+            for _p, term in leaves(value):
+                fixed_constants.append((term, model.eval(term, model_completion=True)))
+    fixed = [pairs + fixed_constants for pairs in fixed]
+    nexts = {n: ext.step(system).arg(1) for ext in system.extensions for n in ext.slots()}
+    out: dict[int, tuple[str, ...]] = {}
+    for i, m in enumerate(moves):
+        chosen = {c.get_id() for c in system.effect(m).chosen}
+        if not chosen:
+            continue
+        free = []
+        for _name, (_t, value) in system.inputs.items():
+            for path, template in leaves(value):
+                if template.get_id() in chosen and _free(system, moves, start, fixed, nexts, target, i, template,
+                                                         depth, timeout_ms):
+                    free.append(path.lstrip("."))
+        if free:
+            out[i] = tuple(free)
+    return out
+
+
+def _free(system: TransitionSystem, moves: list[Move], start: dict[str, z3.ExprRef],
+          fixed: list[list[tuple[z3.ExprRef, z3.ExprRef]]], nexts: dict[str, z3.ExprRef], target: z3.BoolRef,
+          i: int, leaf: z3.ExprRef, depth: int, timeout_ms: int) -> bool:
+    v = z3.FreshConst(leaf.sort(), "field")
+    frame = dict(start)
+    domain: list[z3.BoolRef] = []
+    path: list[z3.BoolRef] = []
+    for j, m in enumerate(moves):
+        inputs = [(t, v if j == i and t.eq(leaf) else x) for t, x in fixed[j]]
+        pairs = [(system.cur[n], frame[n]) for n in system.sorts] + inputs + [(system.act, z3.IntVal(m.index))]
+        eff = system.effect(m)
+        path += [z3.substitute(c, *pairs) for c in eff.enabled]
+        (domain if j == i else path).extend(z3.substitute(c, *pairs) for c in eff.choose)
+        new = dict(frame)
+        for n, term in eff.post.items():
+            new[n] = z3.simplify(z3.substitute(term, *pairs))
+        for n, term in nexts.items():
+            new[n] = z3.simplify(z3.substitute(term, *pairs))
+        frame = new
+    end = [(system.cur[n], frame[n]) for n in system.sorts]
+    path.append(z3.substitute(target, *end))
+    solver = z3.Solver()
+    solver.set("timeout", timeout_ms)
+    solver.add(*domain)
+    taken = dict((t.get_id(), x) for t, x in fixed[i])[leaf.get_id()]
+    if solver.check(v != taken) != z3.sat:  # one value only (a pinned range): nothing to tell
+        return False
+    solver.add(z3.Not(z3.And(path)))
+    return solver.check() == z3.unsat

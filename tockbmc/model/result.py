@@ -70,6 +70,7 @@ class TraceStep:
     channel: tuple = ()  # for an event: its channel as CSP names it, ("EXAX::move", "in"); ("tock",) for tock
     values: tuple = ()  # for an event: the values it carries, as Python values (for replay)
     source: str = ""  # where in the model the step comes from (`path:line:col` of a transition, statement…)
+    free: tuple[str, ...] = ()  # for an input: the fields any value of which keeps the violation
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -94,6 +95,7 @@ class Result:
             "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "engine": self.engine,
             "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
             "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
-                       "changed": s.changed, "source": s.source or None} for s in self.trace],
+                       "changed": s.changed, "source": s.source or None, "free_fields": list(s.free)}
+                      for s in self.trace],
             **self.extra,
         }

@@ -106,6 +106,9 @@ def print_trace(r: Result, console: Console) -> None:
             line.append(f"τ  {s.note}", style="dim")
         else:
             line.append(s.event or "", style="bold")
+            if s.free:
+                fields = ", ".join(s.free) if any(s.free) else "its value"
+                line.append(f"  ({fields}: any value)", style="dim")
         states = ", ".join(f"{m}: {st}" for m, st in s.states.items())
         line.append(f"   [{states}]", style="cyan")
         if s.changed:
