@@ -135,3 +135,28 @@ def test_verdicts_carry_their_exit_status() -> None:
     assert exit_code([Verdict.HOLDS, Verdict.UNKNOWN, Verdict.VIOLATED]) == 10
     assert exit_code([Verdict.HOLDS, Verdict.UNSUPPORTED]) == 20
     assert exit_code([Verdict.HOLDS]) == 0 and exit_code([]) == 0
+
+
+def test_pdr_finds_an_invariant_that_checks_again(project: Project) -> None:
+    from tockbmc.bmc.pdr import Spacer, applicable, confirmed
+    system = _system(project)
+    goal = _x_above_3(system)
+    assert applicable(system, goal) is None
+    spacer = Spacer(system, goal)
+    assert spacer.run(30) == "proved"
+    assert confirmed(system, goal, spacer.invariant())
+    assert not confirmed(system, goal, z3.BoolVal(True))  # True is inductive but does not exclude x > 3
+
+
+def test_pdr_says_reachable_for_what_fails(project: Project) -> None:
+    from tockbmc.bmc.pdr import Spacer
+    system = _system(project)
+    assert Spacer(system, terminated(system)).run(30) == "reachable"
+
+
+def test_the_portfolio_reports_an_invariant_proof(project: Project) -> None:
+    """With k-induction off, only PDR can show the counter never exceeds 3 for every length."""
+    from tockbmc.bmc.portfolio import decide
+    system = _system(project)
+    outcome = decide(system, _x_above_3, bound=3, induction=True)
+    assert outcome.status == Status.PROVED and outcome.method in ("k-induction", "invariant")

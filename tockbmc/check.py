@@ -12,8 +12,9 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import replace
 
-from tockbmc.bmc.engine import Outcome, Status, bmc
+from tockbmc.bmc.engine import Outcome, Status
 from tockbmc.bmc.inclusion import included
+from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
@@ -101,8 +102,8 @@ class _Check:
             if goal.skipped:
                 self.reasons.append(goal.skipped)
             return None
-        outcome = bmc(system, goal.target, self.bound, self.time_left(), goal.stateless and self.induction,
-                      fewest_visible=self.shortest == "events")
+        outcome = decide(system, goal.target, self.bound, self.time_left(), goal.stateless and self.induction,
+                         fewest_visible=self.shortest == "events")
         if outcome.status == Status.UNKNOWN:
             return self.result(Verdict.UNKNOWN, outcome.reason, proof=Proof.NONE, depth=outcome.depth)
         if outcome.status == Status.FOUND:
@@ -112,8 +113,10 @@ class _Check:
             why = (f"{goal.claim}, shown for runs of every length, not only up to {self.bound} steps "
                    f"({outcome.reason})" if verdict == Verdict.HOLDS
                    else f"no run of any length reaches {goal.sought} ({outcome.reason})")
-            proof = Proof.K_INDUCTION
+            proof = Proof.INVARIANT if outcome.method == "invariant" else Proof.K_INDUCTION
             self.depth = max(self.depth or 0, outcome.depth)
+            if proof == Proof.INVARIANT and self.proof == Proof.K_INDUCTION:
+                self.proof = Proof.INVARIANT
         elif goal.not_found == Verdict.HOLDS:
             verdict, why, proof = Verdict.HOLDS, f"{goal.claim} within {self.bound} steps", Proof.BOUNDED
         else:

@@ -26,6 +26,7 @@ never print: they return an `Outcome`.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
@@ -51,6 +52,7 @@ class Outcome:
     unroller: Unroller | None = None  # the unrolling the model speaks of (when found)
     model: z3.ModelRef | None = None
     reason: str | None = None
+    method: str = ""  # for PROVED: "k-induction" or "invariant"
 
 
 class _Clock:
@@ -103,10 +105,12 @@ class _Induction:
 
 
 def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
-        induction: bool = False, fewest_visible: bool = False) -> Outcome:
+        induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None) -> Outcome:
     """Search runs of up to `bound` steps for one that reaches `target`.
 
     With `induction`, k-induction may prove after each depth that no run of any length does.
+    `stop` is asked before each depth; when it says so, the search ends `unknown` (another
+    engine has decided).
     """
     clock = _Clock(timeout)
     goal = target(system)
@@ -121,6 +125,8 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
         solver.add(u.axioms_upto(k))
         if not clock.arm(solver):
             return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
+        if stop is not None and stop():
+            return Outcome(Status.UNKNOWN, k, reason=f"stopped at depth {k}")
         result = solver.check(literal)
         if result == z3.sat:
             if fewest_visible:
@@ -132,7 +138,8 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
                 return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
             return Outcome(Status.UNKNOWN, k, reason=f"Z3 gave up at depth {k}: {why}")
         if prover is not None and k < INDUCTION_DEPTH and prover.proves(k + 1):
-            return Outcome(Status.PROVED, k, reason=f"it is {k + 1}-inductive, so no depth reaches it")
+            return Outcome(Status.PROVED, k, reason=f"it is {k + 1}-inductive, so no depth reaches it",
+                           method="k-induction")
         if k < bound:
             solver.add(u.at(trans, k))
     return Outcome(Status.NOT_FOUND, bound)

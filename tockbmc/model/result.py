@@ -49,6 +49,7 @@ class Proof(StrEnum):
 
     BOUNDED = "bounded"  # holds for every run of up to `bound` steps
     K_INDUCTION = "k-induction"  # holds for runs of every length: the property is k-inductive
+    INVARIANT = "invariant"  # holds for runs of every length: an inductive invariant (PDR) excludes a violation
     EXHAUSTIVE = "exhaustive"  # every reachable configuration was explored (explicit engine)
     TRACE = "trace"  # decided by the trace shown (a counterexample or a witness)
     NONE = "none"  # undecided, or not checked
@@ -56,7 +57,7 @@ class Proof(StrEnum):
     @property
     def every_length(self) -> bool:
         """Whether the verdict covers runs of every length, not only those up to the bound."""
-        return self in (Proof.K_INDUCTION, Proof.EXHAUSTIVE)
+        return self in (Proof.K_INDUCTION, Proof.INVARIANT, Proof.EXHAUSTIVE)
 
 
 @dataclass(frozen=True)

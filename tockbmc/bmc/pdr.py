@@ -1,0 +1,128 @@
+"""Proofs where k-induction fails: property-directed reachability on Z3's Horn-clause solver (Spacer).
+
+The transition system becomes three constrained Horn clauses over one unknown
+relation `Inv` of a configuration (and the constants, which never change):
+
+    init(x)                    → Inv(x)
+    Inv(x) ∧ trans(x, x', …)   → Inv(x')
+    Inv(x) ∧ target(x)         → false
+
+Spacer (IC3/PDR over linear arithmetic) either finds an interpretation of `Inv`
+— an inductive invariant that excludes the target, so no run of any length
+reaches it — or shows the target reachable (BMC then finds the run and shows
+it).  The invariant is not taken on trust: it is checked again, in a fresh
+solver, to contain the initial configurations, to be closed under a step and to
+exclude the target, before a verdict rests on it.
+
+Spacer runs in a Z3 context of its own, so it can run in a thread beside BMC
+(`bmc.portfolio`); it applies when the formulas are quantifier-free and call no
+uninterpreted function (functions without a body, or with pre/postconditions),
+which Horn clauses over arithmetic cannot express.
+"""
+
+from __future__ import annotations
+
+import z3
+
+from tockbmc.encodings.system import TransitionSystem
+from tockbmc.encodings.values import leaves
+
+
+def applicable(system: TransitionSystem, target: z3.BoolRef) -> str | None:
+    """None when Spacer can decide the target; else why not."""
+    if system.side:
+        return "the model's functions have axioms (pre- or postconditions)"
+    for term in (system.init(), system.trans(), target):
+        why = _outside(term)
+        if why:
+            return why
+    return None
+
+
+def _outside(term: z3.ExprRef) -> str | None:
+    """What in `term` Horn clauses over arithmetic cannot take: a quantifier or a function application."""
+    seen: set[int] = set()
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if t.get_id() in seen:
+            continue
+        seen.add(t.get_id())
+        if z3.is_quantifier(t):
+            return "the property quantifies over values"
+        if z3.is_app(t) and t.decl().kind() == z3.Z3_OP_UNINTERPRETED and t.num_args() > 0:
+            return f"the model calls function {t.decl().name()}, which has no body"
+        stack += t.children()
+    return None
+
+
+class Spacer:
+    """One Horn-clause query for one target, built in a context of its own."""
+
+    def __init__(self, system: TransitionSystem, target: z3.BoolRef):
+        self.ctx = z3.Context()
+        self.system = system
+        init, trans = system.init(), system.trans()  # built first: building them declares the inputs
+        constants = {t.get_id(): t for c in system.constants.values() for v in c.values() for _p, t in leaves(v)}
+        self.names = list(system.sorts)
+        cur = [system.cur[n] for n in self.names] + list(constants.values())
+        nxt = [system.nxt[n] for n in self.names] + list(constants.values())
+        inputs = [t for _t, v in system.inputs.values() for _p, t in leaves(v)]
+        self.cur = cur
+        self.inv = z3.Function("Inv", *[x.sort() for x in cur], z3.BoolSort())
+        steps = cur + [system.nxt[n] for n in self.names] + [system.act] + inputs
+        clauses = [
+            z3.ForAll(cur, z3.Implies(init, self.inv(*cur))),
+            z3.ForAll(steps, z3.Implies(z3.And(self.inv(*cur), trans), self.inv(*nxt))),
+            z3.ForAll(cur, z3.Implies(z3.And(self.inv(*cur), target), z3.BoolVal(False))),
+        ]
+        self.solver = z3.SolverFor("HORN", ctx=self.ctx)
+        self.solver.add(*[c.translate(self.ctx) for c in clauses])
+        self.cur_here = [x.translate(self.ctx) for x in cur]
+        self.inv_here = self.inv.translate(self.ctx)  # type: ignore[attr-defined]
+
+        self.status = "unknown"
+        self._invariant: z3.ExprRef | None = None
+
+    def run(self, timeout: float | None) -> str:
+        """Solve, touching only this query's context (so it may run in a thread of its own):
+        "proved" (an invariant was found), "reachable", or "unknown"."""
+        if timeout is not None:
+            self.solver.set("timeout", max(1, int(timeout * 1000)))
+        try:
+            result = self.solver.check()
+            if result == z3.sat:
+                interp = self.solver.model()[self.inv_here]
+                body = interp.else_value() if isinstance(interp, z3.FuncInterp) else interp
+                # The interpretation reads argument i as variable i.
+                self._invariant = (z3.substitute_vars(body, *self.cur_here) if body is not None
+                                   else z3.BoolVal(True, self.ctx))
+                self.status = "proved"
+            elif result == z3.unsat:
+                self.status = "reachable"
+        except z3.Z3Exception:  # interrupted (`interrupt`) or out of resources: no answer
+            self.status = "unknown"
+        return self.status
+
+    def invariant(self) -> z3.BoolRef:
+        """The invariant found, in the caller's context (call from the caller's thread, after `run`)."""
+        assert self._invariant is not None
+        return self._invariant.translate(z3.main_ctx())  # type: ignore[return-value]
+
+    def interrupt(self) -> None:
+        """Stop `run` from another thread."""
+        self.ctx.interrupt()
+
+
+def confirmed(system: TransitionSystem, target: z3.BoolRef, invariant: z3.BoolRef, timeout: float = 10) -> bool:
+    """Whether `invariant` holds initially, is kept by every step and excludes the target (a fresh solver)."""
+    after = z3.substitute(invariant, *[(system.cur[n], system.nxt[n]) for n in system.sorts])
+    for claim in (z3.Implies(system.init(), invariant),
+                  z3.Implies(z3.And(invariant, system.trans()), after),
+                  z3.Implies(invariant, z3.Not(target))):
+        solver = z3.Solver()
+        solver.set("timeout", max(1, int(timeout * 1000)))
+        solver.add(z3.Not(claim))
+        if solver.check() != z3.unsat:
+            return False
+    return True

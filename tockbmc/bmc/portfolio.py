@@ -1,0 +1,53 @@
+"""A portfolio, in the manner of Kind 2: BMC with k-induction, and Spacer's PDR beside it in a thread.
+
+BMC finds shortest counterexamples and k-induction proves what is inductive
+after a few steps; PDR proves what needs a stronger invariant (a whole module
+that never terminates).  Spacer runs in a Z3 context of its own, on the other
+core; BMC asks between depths whether it has proved the target unreachable.
+Whichever decides first decides; the other is stopped.  When BMC reaches its
+bound with nothing found, Spacer is given a little longer (`GRACE`) to turn
+"within the bound" into "for every length".  Every invariant is checked again
+in a fresh solver before a verdict rests on it (`pdr.confirmed`).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+from tockbmc.bmc.engine import Outcome, Status, bmc
+from tockbmc.bmc.pdr import Spacer, applicable, confirmed
+from tockbmc.encodings.system import Target, TransitionSystem
+
+GRACE = 10.0  # seconds Spacer may go on once BMC has reached its bound
+
+
+def decide(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
+           induction: bool = True, fewest_visible: bool = False) -> Outcome:
+    """BMC (with k-induction when `induction`) and, when it applies, PDR: the first to decide."""
+    start = time.monotonic()
+    goal = target(system)
+    if not induction or applicable(system, goal) is not None:
+        return bmc(system, target, bound, timeout, induction, fewest_visible)
+    spacer = Spacer(system, goal)
+    thread = threading.Thread(target=spacer.run, args=(timeout,), name="spacer", daemon=True)
+    thread.start()
+    outcome = bmc(system, target, bound, timeout, induction, fewest_visible, stop=lambda: spacer.status == "proved")
+    if outcome.status in (Status.FOUND, Status.PROVED):
+        _stop(spacer, thread)
+        return outcome
+    left = None if timeout is None else timeout - (time.monotonic() - start)
+    thread.join(GRACE if left is None else max(0.0, min(GRACE, left)))
+    _stop(spacer, thread)
+    if spacer.status == "proved":
+        invariant = spacer.invariant()
+        if confirmed(system, goal, invariant):
+            return Outcome(Status.PROVED, outcome.depth, reason="an inductive invariant excludes it (found by "
+                           "Spacer's PDR, checked again in a fresh solver)", method="invariant")
+    return outcome
+
+
+def _stop(spacer: Spacer, thread: threading.Thread) -> None:
+    if thread.is_alive():
+        spacer.interrupt()
+        thread.join(5)
