@@ -21,6 +21,7 @@ from tockbmc.model import ModelError, Project, ast, load
 from tockbmc.model.core import core_assertions
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import exit_code
+from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results, print_trace
 from tockbmc.report.results import to_json as results_json
@@ -32,13 +33,17 @@ EXIT_INTERNAL_ERROR = 1
 T = TypeVar("T")
 
 
-def _load(paths: tuple[str, ...], json_errors: bool = False) -> Project:
-    """Load a project, or print its diagnostics and exit 3 (as a JSON document with `json_errors`)."""
+def _load(paths: tuple[str, ...], fmt: str = "text") -> Project:
+    """Load a project, or print its diagnostics and exit 3 (also on stdout in the document of `fmt`, but itf's)."""
     try:
         project = load(*paths)
     except ModelError as exc:
-        if json_errors:
+        if fmt == "json":
             click.echo(json.dumps(results_json([], __version__, "model-error", exc.diagnostics), indent=2))
+        elif fmt == "sarif":
+            click.echo(json.dumps(sarif.model_error_log(exc.diagnostics, __version__), indent=2))
+        elif fmt == "junit":
+            click.echo(junit.model_error_report(exc.diagnostics, exc.sources))
         click.echo(render(exc.diagnostics, exc.sources), err=True)
         click.echo(summary(exc.diagnostics), err=True)
         sys.exit(EXIT_MODEL_ERROR)
@@ -128,7 +133,9 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
 @click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
-@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",
+              show_default=True, help="A table and traces, the JSON contract, the traces in Apalache's ITF, "
+                                      "SARIF 2.1.0 (code scanning), or JUnit XML (CI test reports).")
 @click.option("--engine", type=click.Choice(["bmc", "explicit"]), default="bmc", show_default=True,
               help="Symbolic BMC in Z3, or breadth-first search over concrete configurations (finite ranges).")
 @click.option("--max-states", type=click.IntRange(1), default=1_000_000, show_default=True,
@@ -149,7 +156,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     ranges = _ranges(range_specs)
     settings = _settings(set_specs)
-    project = _load(paths, json_errors=fmt == "json")
+    project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
             click.echo("tockbmc: the model has no assertions: checking RoboTool's core assertions", err=True)
@@ -172,6 +179,12 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     try:
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
+        elif fmt == "itf":
+            click.echo(json.dumps(itf.document(results, __version__), indent=2))
+        elif fmt == "sarif":
+            click.echo(json.dumps(sarif.log(results, __version__, project.assertions), indent=2))
+        elif fmt == "junit":
+            click.echo(junit.report(results))
         else:
             width = None if sys.stdout.isatty() else 160
             print_results(results, _Console(width=width, soft_wrap=True))
