@@ -2,7 +2,7 @@
 
 A configuration is a flat set of named scalars: per machine its location,
 variables, clocks and `wait`/deadline counters; the shared variables; per
-asynchronous link its buffer.  A step is one `Move` (`semantics.md` §2): an
+asynchronous link its buffer.  A step is one `Move` (`docs/semantics.md` §3.2): an
 internal step, a visible event or `tock`.  Step `i` picks the move `act@i`;
 `step(i)` relates the configurations at `i` and `i + 1`, each scalar's next
 value being an if-then-else over the moves that change it, so one constraint
@@ -44,7 +44,7 @@ class Move:
 
     @property
     def urgent(self) -> bool:
-        """Internal steps and operation calls may not wait for `tock` (§2.1–2)."""
+        """Internal steps and operation calls may not wait for `tock` (docs/semantics.md §3.3–§3.4)."""
         return self.kind == "internal" or any(e.kind == "call" for _, e in self.parts)
 
 
@@ -568,7 +568,7 @@ class System:
         return z3.Or([loc == x for x in sorted(locations)]) if locations else z3.BoolVal(False)
 
     def halted(self, i: int) -> z3.BoolRef:
-        """Some machine has terminated, so the whole network has (§2.8, §2.12)."""
+        """Some machine has terminated, so the whole network has (docs/semantics.md §4.4, §5.6)."""
         if i not in self._halted:
             self._halted[i] = z3.Or([self._at(c, i, comp.automaton.terminated)
                                      for c, comp in enumerate(self.components)])
@@ -612,7 +612,7 @@ class System:
         return self.at_step("internal", i, self._internal_enabled)
 
     def tock_enabled(self, i: int) -> z3.BoolRef:
-        """Time may pass at step i: maximal progress, urgent calls, deadlines, termination (§2.1)."""
+        """Time may pass at step i: maximal progress, urgent calls, deadlines, termination (docs/semantics.md §3.3)."""
         return self.at_step("tock", i, self._tock_enabled)
 
     def _event_offered(self, i: int) -> z3.BoolRef:

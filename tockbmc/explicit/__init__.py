@@ -1,6 +1,6 @@
 """An explicit-state interpreter of RoboChart models: the second opinion on the symbolic encoding.
 
-It implements `/work/shared/semantics.md` §2 directly on the resolved model (`tockbmc.model.ast`)
+It implements `docs/semantics.md` §3–§6 directly on the resolved model (`tockbmc.model.ast`)
 and shares no code with `tockbmc.encodings`, `tockbmc.properties` or `tockbmc.bmc`.
 """
 
