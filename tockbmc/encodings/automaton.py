@@ -2,7 +2,7 @@
 
 Every location is a point where the machine may pause: stable in a state, at a
 junction, between two statements of an action, waiting, offering an output or
-`terminate`.  Every edge is one step of `semantics.md` §2: an internal step
+`terminate`.  Every edge is one step of `docs/semantics.md` §3.2: an internal step
 (`tau`), a visible event (`in`, `out`, `call`, `terminate`).  Time (`tock`) is
 not an edge: it is possible at a location when no internal step and no urgent
 call is possible there (maximal progress), and it advances clocks and `wait`s.
@@ -74,7 +74,7 @@ class Edge:
 @dataclass(frozen=True)
 class TriggerDeadline:
     """`trigger … <{bound}` on a transition: once its source is stable (`armed` locations) and its
-    condition true, it must be taken within `bound` tocks (§2.11)."""
+    condition true, it must be taken within `bound` tocks (docs/semantics.md §4.6)."""
 
     transition: str
     source: str
@@ -131,7 +131,7 @@ class Automaton:
 
     @property
     def urgent(self) -> frozenset[int]:
-        """Locations offering an operation call, which is urgent (§2.2)."""
+        """Locations offering an operation call, which is urgent (docs/semantics.md §4.7)."""
         return frozenset(e.source for e in self.edges if e.kind == "call")
 
     @property
@@ -191,7 +191,7 @@ class _Builder:
             self._check_stmt(t.action)
 
     def _composite_during_supported(self, n: ast.Node) -> None:
-        """A composite's during runs once a child is stable (§2.7) and is abandoned by any transition.
+        """A composite's during runs once a child is stable (docs/semantics.md §4.1) and is abandoned by any transition.
 
         Encoded when that order is all there is: the children are leaf states without their own
         during, and no transition moves between them (only the initial one enters them), so the
@@ -226,7 +226,7 @@ class _Builder:
         """The definition a call runs (inlined), or None for a platform operation (an event)."""
         op = call.operation if isinstance(call.operation, ast.OperationDef) else self.defined.get(call.operation.name)
         if op is None or (op.terminates and not op.nodes):
-            return None  # an operation whose body is only `terminates` is the platform's (§2.2)
+            return None  # an operation whose body is only `terminates` is the platform's (docs/semantics.md §4.7)
         return op
 
     def _since_entry_states(self) -> set[str]:
@@ -298,7 +298,7 @@ class _Builder:
             else:
                 continue
             # Candidates: the transitions of the active node and of every state containing it;
-            # a during action is abandoned when one is taken (§2.7).
+            # a during action is abandoned when one is taken (docs/semantics.md §4.1).
             for loc in (here, *self.in_state.get(n.path, ())):
                 for source in reversed(self.chain(n.path)):
                     group = self._outgoing(source)
@@ -382,7 +382,7 @@ class _Builder:
             self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),), pos=node.pos)
             cur = nxt
         elif node.entry is not None:
-            # The state is entered when its entry action starts (§3 `is reachable`): the entry runs
+            # The state is entered when its entry action starts (docs/semantics.md §7.4 `is reachable`): the entry runs
             # from a location where the state is already active (no extra step when the step into
             # `cur` can lead here directly).
             nxt = self._location(f"{state}: entering", inside)

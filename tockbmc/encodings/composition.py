@@ -1,6 +1,6 @@
 """Flatten a machine, controller or module into a network of machine automata joined by links.
 
-`semantics.md` §2.12–13: a connection between two machines is a hidden joint
+`docs/semantics.md` §5: a connection between two machines is a hidden joint
 step (synchronous) or a one-place overwriting buffer (`_async`); a connection
 to the enclosing controller's or module's own event, or to the platform, is a
 visible event named after that outer element.  Shared variables are the
@@ -122,7 +122,7 @@ class _Flattener:
             self.shared.setdefault(f"{scope}{v.name}", v)
 
     def require(self, c: int, m: ast.StateMachine, controller: str) -> None:
-        """Bind the variables machine c requires to its controller's, else the platform's (§2.13).
+        """Bind the variables machine c requires to its controller's, else the platform's (docs/semantics.md §5.5).
 
         A variable of an interface the machine provides is its own.  One that no
         enclosing element declares is shared by the controller's machines.

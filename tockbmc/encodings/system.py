@@ -3,7 +3,7 @@
 A configuration is a flat set of named scalars (`encodings.names`): per
 machine its location, variables, clocks and `wait`/deadline counters; the
 shared variables; per asynchronous link its buffer.  A step is one `Move`
-(`semantics.md` §2): an internal step, a visible event or `tock`.
+(`docs/semantics.md` §3.2): an internal step, a visible event or `tock`.
 
 Every formula is built once, over the template step: the configuration before
 it (`cur`, scalars named `x@0`), the one after it (`nxt`, `x@1`), the move it
@@ -50,7 +50,7 @@ class Move:
 
     @property
     def urgent(self) -> bool:
-        """Internal steps and operation calls may not wait for `tock` (§2.1–2)."""
+        """Internal steps and operation calls may not wait for `tock` (docs/semantics.md §3.3–§3.4)."""
         return self.kind == "internal" or any(e.kind == "call" for _, e in self.parts)
 
 
@@ -519,7 +519,7 @@ class TransitionSystem:
         return z3.Or([loc == x for x in sorted(locations)]) if locations else z3.BoolVal(False)
 
     def halted(self) -> z3.BoolRef:
-        """Some machine has terminated, so the whole network has (§2.8, §2.12)."""
+        """Some machine has terminated, so the whole network has (docs/semantics.md §4.4, §5.6)."""
         return self.once("halted", lambda: z3.Or([self.located(c, comp.automaton.terminated)
                                                   for c, comp in enumerate(self.components)]))
 
@@ -554,7 +554,7 @@ class TransitionSystem:
                                                    or [z3.BoolVal(False)]))
 
     def tock_enabled(self) -> z3.BoolRef:
-        """Time may pass: maximal progress, urgent calls, deadlines, termination (§2.1)."""
+        """Time may pass: maximal progress, urgent calls, deadlines, termination (docs/semantics.md §3.3)."""
         return self.once("tock", self._tock_enabled)
 
     def _tock_enabled(self) -> z3.BoolRef:

@@ -1,6 +1,6 @@
 """An explicit-state interpreter of RoboChart machines, controllers and modules.
 
-This is an independent implementation of `/work/shared/semantics.md` §1–§2 (the trace alphabet and
+This is an independent implementation of `docs/semantics.md` §2–§6 (the event names and
 the step rules), written from that text and from the user-visible choices recorded in DESIGN.md
 ("Resolution choices", "Checking: encoding choices"). It imports nothing from `tockbmc.encodings`,
 `tockbmc.properties` or `tockbmc.bmc`, so that it can cross-check them.
@@ -11,7 +11,7 @@ defined operations it is running), one value per slot (variables, constants, clo
 has terminated. `Interpreter.steps` lists every step from a configuration: internal steps, visible
 events (named exactly as tockbmc prints them) and `tock`.
 
-Choices made where semantics.md is silent (and DESIGN.md too, or where it is only implied):
+Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it is only implied):
 
 * **Granularity of internal steps.** Each of these is one internal step: taking a transition
   (trigger, condition, clock resets, and the binding of `e?x` together), an assignment, an `if`
@@ -386,7 +386,7 @@ class _Ctx:
 
 
 class Interpreter:
-    """The steps of one machine, controller or module (semantics.md §2)."""
+    """The steps of one machine, controller or module (docs/semantics.md §3–§5)."""
 
     def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
                  ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
@@ -600,7 +600,7 @@ class Interpreter:
     def _resolve_call(self, i: int, st: ast.OperationCall) -> ast.OperationDef | None:
         """The defined operation a call runs, or None for a platform operation."""
         op = st.operation
-        # §2.2: a platform operation is a signature, or an operation whose body is only `terminates`.
+        # docs/semantics.md §4.7: a platform operation is a signature, or an operation whose body is only `terminates`.
         if isinstance(op, ast.OperationDef):
             return op if op.nodes else None
         d = self.insts[i].defined.get(op.name)
@@ -880,7 +880,7 @@ class Interpreter:
             ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
             try:
                 if not all(self._eval(ctx, pre) is True for pre in f.preconditions):
-                    # Outside its preconditions the function is unconstrained (§2.15): any value.
+                    # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
                     raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
                 return self._eval(ctx, f.definition)
             finally:
@@ -1107,7 +1107,7 @@ class Interpreter:
         for c in t.clock_resets:
             ctx.set(self._slot_of[("clk", ctx.i, c.name)], 0)
         exits, enters = beh.path(f.node, t.source, t.target)  # type: ignore[arg-type]
-        # Leaving a state (a self-transition included) restarts the deadlines of its transitions (§2.11).
+        # Leaving a state (a self-transition included) restarts its transitions' deadlines (docs/semantics.md §4.6).
         for slot, bi, dt in self._tdl.get(ctx.i, ()):
             if bi == f.beh and dt.source in exits:
                 ctx.set(slot, 0)
@@ -1353,7 +1353,7 @@ class Interpreter:
         return self.domain(t, paths)
 
     def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
-        """Every step possible from `config` (semantics.md §2)."""
+        """Every step possible from `config` (docs/semantics.md §3.2)."""
         if config.done:
             return []
         n = len(self.insts)
@@ -1456,7 +1456,7 @@ class Interpreter:
         return steps
 
     def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
-        """The configuration after `tock`, or None if `tock` is refused (§2.1, §2.11)."""
+        """The configuration after `tock`, or None if `tock` is refused (docs/semantics.md §3.3, §4.6)."""
         if urgent or any(s.kind == "internal" for s in steps):
             return None
         for frames in config.machines:

@@ -1,4 +1,4 @@
-"""Parse the CSP blocks of an `.assertions` file (the subset of `semantics.md` §4).
+"""Parse the CSP blocks of an `.assertions` file (the subset of `docs/language.md` §4).
 
 A block is parsed when an assertion needs one of its processes, not when the
 file is loaded: a block that is outside the subset (RoboTool's
@@ -73,7 +73,7 @@ def parse_block(block: ast.CspBlock) -> tuple[Definition, ...]:
         tree = _parser().parse(block.text)
     except UnexpectedInput as exc:
         pos = position(block, getattr(exc, "line", 1) or 1, getattr(exc, "column", 1) or 1)
-        raise CspError(pos, "this CSP is outside the subset tockbmc understands (semantics.md §4)") from None
+        raise CspError(pos, "this CSP is outside the subset tockbmc understands (docs/language.md §4)") from None
     out: list[Definition] = []
     for item in tree.children:
         if not isinstance(item, Tree):

@@ -21,7 +21,7 @@ from tockbmc.model.scope import qname_text
 
 Report = Callable[[Pos, str], None]
 
-# Constructs of the expression language that language.md lists as "Later".
+# Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
     "forall_expr": "quantified expressions ('forall')",
     "exists_expr": "quantified expressions ('exists')",

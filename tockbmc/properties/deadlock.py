@@ -1,4 +1,4 @@
-"""Timed deadlock (`semantics.md` §3): what `P is deadlock-free` rules out.
+"""Timed deadlock (`docs/semantics.md` §7.2): what `P is deadlock-free` rules out.
 
 Three ways to be stuck, searched together so that the shortest comes first:
 - *refusal*: not terminated, and every event refused, `tock` included;

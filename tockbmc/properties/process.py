@@ -1,7 +1,7 @@
 """Processes over the model: a model element in a CSP context, and specifications as monitors.
 
 An implementation process is a model element (`M::D__(id, c1, …)`, or the
-element named directly) under the operators of `semantics.md` §4 that the
+element named directly) under the operators of `docs/semantics.md` §8.2 that the
 encoding understands: hiding `\\` and projection `|\\` (events become internal,
 hence urgent), `[| A |] SKIP` and `[| A |] STOP` (events of A are blocked),
 `P ; T` (after the element terminates, T runs), and prefix `e -> P` outside a

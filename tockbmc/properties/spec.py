@@ -1,4 +1,4 @@
-"""CSP specifications as finite monitors (semantics.md §4).
+"""CSP specifications as finite monitors (docs/semantics.md §8).
 
 A specification is evaluated into process terms with an explicit operational
 semantics in tock-CSP: `after(p, e)` for a visible event (`tock` included),
