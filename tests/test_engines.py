@@ -146,6 +146,9 @@ def test_pdr_finds_an_invariant_that_checks_again(project: Project) -> None:
     assert spacer.run(30) == "proved"
     assert confirmed(system, goal, spacer.invariant())
     assert not confirmed(system, goal, z3.BoolVal(True))  # True is inductive but does not exclude x > 3
+    from tockbmc.bmc.pdr import describe
+    text = describe(system, spacer.invariant())
+    assert "Counter.x" in text and "@0" not in text  # in the model's names
 
 
 def test_pdr_says_reachable_for_what_fails(project: Project) -> None:

@@ -58,6 +58,7 @@ class _Check:
         self.reasons: list[str] = []  # what the goals searched so far have shown
         self.proof = Proof.K_INDUCTION  # of a "holds": weakened to BOUNDED by the first goal shown only to the bound
         self.depth: int | None = None  # the deepest depth a k-induction proof needed
+        self.extra: dict[str, object] = {}  # what the goals searched so far add to the result
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(0.001, self.timeout - (time.perf_counter() - self.start))
@@ -91,7 +92,7 @@ class _Check:
         except Unsupported as exc:
             return self.unsupported(exc)
         return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
-                           depth=self.bound if self.proof == Proof.BOUNDED else self.depth)
+                           depth=self.bound if self.proof == Proof.BOUNDED else self.depth, extra=self.extra)
 
     def search(self, q: Query, goal: Goal, network: Network, consts: dict[str, ast.Expr]) -> Result | None:
         """Search one goal; a `Result` if it decides the assertion, None if the next goal is to be searched."""
@@ -117,13 +118,15 @@ class _Check:
             self.depth = max(self.depth or 0, outcome.depth)
             if proof == Proof.INVARIANT and self.proof == Proof.K_INDUCTION:
                 self.proof = Proof.INVARIANT
+            if outcome.invariant:
+                self.extra["invariant"] = outcome.invariant
         elif goal.not_found == Verdict.HOLDS:
             verdict, why, proof = Verdict.HOLDS, f"{goal.claim} within {self.bound} steps", Proof.BOUNDED
         else:
             verdict, why = Verdict.UNKNOWN, f"not found within {self.bound} steps; a bounded search alone gives no verdict"
             proof = Proof.NONE
         if verdict != Verdict.HOLDS:
-            return self.result(verdict, why, proof=proof, depth=outcome.depth)
+            return self.result(verdict, why, proof=proof, depth=outcome.depth, extra=self.extra)
         if proof == Proof.BOUNDED:
             self.proof = Proof.BOUNDED
         self.reasons.append(why)

@@ -53,6 +53,7 @@ class Outcome:
     model: z3.ModelRef | None = None
     reason: str | None = None
     method: str = ""  # for PROVED: "k-induction" or "invariant"
+    invariant: str = ""  # for a proof by invariant: the invariant, in the model's names
 
 
 class _Clock:

@@ -126,3 +126,56 @@ def confirmed(system: TransitionSystem, target: z3.BoolRef, invariant: z3.BoolRe
         if solver.check() != z3.unsat:
             return False
     return True
+
+
+_INFIX = {z3.Z3_OP_LE: "<=", z3.Z3_OP_LT: "<", z3.Z3_OP_GE: ">=", z3.Z3_OP_GT: ">", z3.Z3_OP_ADD: "+",
+          z3.Z3_OP_SUB: "-", z3.Z3_OP_MUL: "*", z3.Z3_OP_AND: "and", z3.Z3_OP_OR: "or", z3.Z3_OP_IMPLIES: "=>"}
+
+
+_FLIP = {z3.Z3_OP_LE: ">", z3.Z3_OP_LT: ">=", z3.Z3_OP_GE: "<", z3.Z3_OP_GT: "<="}
+
+
+def describe(system: TransitionSystem, invariant: z3.BoolRef, most: int = 2000) -> str:
+    """The invariant in the model's names: `EXAX at time_check`, `UR.curr_waypoint`, `monitor`."""
+    where: dict[int, str] = {}  # id of a location slot -> its component
+    for comp in system.components:
+        where[system.cur[f"{comp.name}.loc"].get_id()] = comp.name
+    located = {comp.name: comp.automaton.locations for comp in system.components}
+    names = {system.cur[n].get_id(): n for n in system.sorts}
+
+    def text(t: z3.ExprRef, top: bool = False) -> str:
+        if z3.is_true(t) or z3.is_false(t):
+            return str(z3.is_true(t)).lower()
+        if z3.is_int_value(t) or z3.is_rational_value(t):
+            return str(t)
+        if z3.is_const(t) and t.get_id() in names:
+            return names[t.get_id()]
+        if z3.is_const(t):
+            return str(t).removesuffix("@0")
+        kind, args = t.decl().kind(), t.children()
+        if kind == z3.Z3_OP_EQ and len(args) == 2:
+            for a, b in (args, args[::-1]):
+                if a.get_id() in where and z3.is_int_value(b):
+                    comp = where[a.get_id()]
+                    locations = located[comp]
+                    i = b.as_long()  # type: ignore[attr-defined]
+                    return f"{comp} at {locations[i].description}" if 0 <= i < len(locations) else f"{comp}.loc = {i}"
+            out = f"{text(args[0])} = {text(args[1])}"
+        elif kind == z3.Z3_OP_NOT:
+            inner = args[0]
+            if z3.is_eq(inner):
+                return text(inner).replace(" = ", " ≠ ").replace(" at ", " not at ", 1)
+            flipped = _FLIP.get(inner.decl().kind()) if z3.is_app(inner) else None
+            if flipped is not None and inner.num_args() == 2:
+                out = f"{text(inner.arg(0))} {flipped} {text(inner.arg(1))}"
+            else:
+                out = f"not {text(inner)}"
+        elif kind in _INFIX:
+            out = f" {_INFIX[kind]} ".join(text(a) for a in args)
+        else:
+            out = str(t)
+        return out if top else f"({out})"
+
+    conjuncts = invariant.children() if z3.is_and(invariant) else [invariant]
+    rendered = "; ".join(text(c, top=True) for c in conjuncts)
+    return rendered if len(rendered) <= most else rendered[:most] + " …"

@@ -16,7 +16,7 @@ import threading
 import time
 
 from tockbmc.bmc.engine import Outcome, Status, bmc
-from tockbmc.bmc.pdr import Spacer, applicable, confirmed
+from tockbmc.bmc.pdr import Spacer, applicable, confirmed, describe
 from tockbmc.encodings.system import Target, TransitionSystem
 
 GRACE = 10.0  # seconds Spacer may go on once BMC has reached its bound
@@ -43,7 +43,8 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
         invariant = spacer.invariant()
         if confirmed(system, goal, invariant):
             return Outcome(Status.PROVED, outcome.depth, reason="an inductive invariant excludes it (found by "
-                           "Spacer's PDR, checked again in a fresh solver)", method="invariant")
+                           "Spacer's PDR, checked again in a fresh solver)", method="invariant",
+                           invariant=describe(system, invariant))
     return outcome
 
 

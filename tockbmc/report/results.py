@@ -80,6 +80,8 @@ def print_results(results: list[Result], console: Console) -> None:
         if r.verdict == Verdict.HOLDS:
             console.print(Text(f"  {r.reason or f'holds for every run of up to {r.bound} steps'}; "
                                f"{_scope(r).split('; ')[1]}"))
+            if "invariant" in r.extra:
+                console.print(Text(f"  invariant: {r.extra['invariant'][:600]}", style="dim"))
         elif r.reason and not r.trace:
             console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == Verdict.UNSUPPORTED else "")))
         if r.trace:
