@@ -152,6 +152,8 @@ def describe(system: TransitionSystem, invariant: z3.BoolRef, most: int = 2000) 
             return names[t.get_id()]
         if z3.is_const(t):
             return str(t).removesuffix("@0")
+        if not z3.is_app(t):  # a quantifier or a bound variable: Z3's own text
+            return str(t)
         kind, args = t.decl().kind(), t.children()
         if kind == z3.Z3_OP_EQ and len(args) == 2:
             for a, b in (args, args[::-1]):

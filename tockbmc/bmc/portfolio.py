@@ -5,7 +5,7 @@ after a few steps; PDR proves what needs a stronger invariant (a whole module
 that never terminates).  Spacer runs in a Z3 context of its own, on the other
 core; BMC asks between depths whether it has proved the target unreachable.
 Whichever decides first decides; the other is stopped.  When BMC reaches its
-bound with nothing found, Spacer is given a little longer (`GRACE`) to turn
+bound with nothing found, Spacer is given a little longer (as long as BMC took, between 1 s and `GRACE`) to turn
 "within the bound" into "for every length".  Every invariant is checked again
 in a fresh solver before a verdict rests on it (`pdr.confirmed`).
 """
@@ -19,7 +19,7 @@ from tockbmc.bmc.engine import Outcome, Status, bmc
 from tockbmc.bmc.pdr import Spacer, applicable, confirmed, describe
 from tockbmc.encodings.system import Target, TransitionSystem
 
-GRACE = 10.0  # seconds Spacer may go on once BMC has reached its bound
+GRACE = 10.0  # most seconds Spacer may go on once BMC has reached its bound (at least 1 s, at most as long as BMC took)
 
 
 def decide(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
@@ -36,8 +36,10 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
     if outcome.status in (Status.FOUND, Status.PROVED):
         _stop(spacer, thread)
         return outcome
-    left = None if timeout is None else timeout - (time.monotonic() - start)
-    thread.join(GRACE if left is None else max(0.0, min(GRACE, left)))
+    took = time.monotonic() - start
+    grace = min(GRACE, max(1.0, took))
+    left = None if timeout is None else timeout - took
+    thread.join(grace if left is None else max(0.0, min(grace, left)))
     _stop(spacer, thread)
     if spacer.status == "proved":
         invariant = spacer.invariant()
