@@ -3,7 +3,8 @@
 BMC finds shortest counterexamples and k-induction proves what is inductive
 after a few steps; PDR proves what needs a stronger invariant (a whole module
 that never terminates).  Spacer runs in a Z3 context of its own, on the other
-core; BMC asks between depths whether it has proved the target unreachable.
+core; once it has proved the target unreachable it interrupts BMC's solver call (and BMC asks
+between depths too).
 Whichever decides first decides; the other is stopped.  When BMC reaches its
 bound with nothing found, Spacer is given a little longer (as long as BMC took, between 1 s and `GRACE`) to turn
 "within the bound" into "for every length".  Every invariant is checked again
@@ -15,7 +16,7 @@ from __future__ import annotations
 import threading
 import time
 
-from tockbmc.bmc.engine import Outcome, Status, bmc
+from tockbmc.bmc.engine import Interruptible, Outcome, Status, bmc
 from tockbmc.bmc.pdr import Spacer, applicable, confirmed, describe
 from tockbmc.encodings.system import Target, TransitionSystem
 
@@ -30,9 +31,16 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
     if not induction or applicable(system, goal) is not None:
         return bmc(system, target, bound, timeout, induction, fewest_visible)
     spacer = Spacer(system, goal)
-    thread = threading.Thread(target=spacer.run, args=(timeout,), name="spacer", daemon=True)
+    guard = Interruptible()
+
+    def run() -> None:
+        if spacer.run(timeout) == "proved":
+            guard.interrupt()  # BMC's solver call is moot now
+
+    thread = threading.Thread(target=run, name="spacer", daemon=True)
     thread.start()
-    outcome = bmc(system, target, bound, timeout, induction, fewest_visible, stop=lambda: spacer.status == "proved")
+    outcome = bmc(system, target, bound, timeout, induction, fewest_visible, stop=lambda: spacer.status == "proved",
+                  guard=guard)
     if outcome.status in (Status.FOUND, Status.PROVED):
         _stop(spacer, thread)
         return outcome

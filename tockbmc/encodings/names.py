@@ -63,6 +63,7 @@ def wait_length(component: str) -> str:
     return f"{component}.wait_length"
 
 
+PREVIOUS = "prev"  # the move the step before took (-1 before the first): orders independent internal steps
 MONITOR = "monitor"  # a specification monitor's state (properties.process)
 FOLLOW = "follow"  # how much of a specification trace the model has done (properties.inclusion)
 LOOP_SAVED = "loop.saved"  # divergence: a configuration has been saved (properties.deadlock)

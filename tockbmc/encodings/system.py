@@ -76,7 +76,12 @@ class Context(Protocol):
 
 
 class Extension(Protocol):
-    """Scalars and constraints added to every configuration and step (over the template step)."""
+    """Scalars and constraints added to every configuration and step (over the template step).
+
+    An extension that reads configurations between steps other than through visible events (a
+    lasso's saved copy) says so with a true `order_sensitive` attribute: independent internal
+    steps are then not put in order (see `TransitionSystem.ordered`).
+    """
 
     def slots(self) -> dict[str, z3.SortRef]: ...
 
@@ -247,6 +252,7 @@ class TransitionSystem:
             self._slot(base + path, sort_of(leaf_type(t, path)))
 
     def _declare(self) -> None:
+        self._slot(names.PREVIOUS, z3.IntSort())
         shared_consts: dict[str, Value] = {}
         for c, comp in enumerate(self.components):
             m = comp.machine
@@ -573,7 +579,7 @@ class TransitionSystem:
     def init(self) -> z3.BoolRef:
         """The initial configuration (and the constants' values or ranges), over `cur`."""
         f = self.cur
-        cs = list(self.constraints)
+        cs = [*self.constraints, f[names.PREVIOUS] == -1]
         for comp in self.components:
             cs += [f[names.location(comp.name)] == 0, f[names.wait(comp.name)] == 0,
                    f[names.deadline(comp.name)] == 0]
@@ -602,7 +608,9 @@ class TransitionSystem:
     def _network_step(self) -> z3.BoolRef:
         s, t = self.cur, self.nxt
         act = self.act
-        cs = [act >= 0, act <= self.TOCK]
+        cs = [act >= 0, act <= self.TOCK, t[names.PREVIOUS] == act]
+        if self.ordered():
+            cs += self._in_order()
         changes: dict[str, list[tuple[z3.BoolRef, z3.ExprRef]]] = {}
         for m in self.moves:
             taken = act == m.index
@@ -612,13 +620,64 @@ class TransitionSystem:
                 if not term.eq(s[name]):
                     changes.setdefault(name, []).append((taken, term))
         for name, old in s.items():
-            if name in self.extension_slots:
+            if name in self.extension_slots or name == names.PREVIOUS:
                 continue
             new = old
             for taken, term in changes.get(name, []):
                 new = z3.If(taken, term, new)
             cs.append(t[name] == new)
         return z3.And(cs)
+
+
+    # ------------------------------------------------------------ independent internal steps in one order
+
+    def ordered(self) -> bool:
+        """Whether independent internal steps are taken in one order only (partial-order reduction).
+
+        Two internal moves are independent when neither writes what the other reads or writes:
+        taking them in either order leaves the same configuration after both, and neither enables
+        or disables the other.  So every run can be rearranged, step count and visible events
+        unchanged, into one where an internal move never directly follows an independent internal
+        move of a higher index; only such runs are unrolled.  Targets read a configuration and the
+        visible events before it, so they are reached at the same depth as before; an extension
+        that watches configurations between steps (a lasso) turns the reduction off."""
+        return not any(getattr(ext, "order_sensitive", False) for ext in self.extensions)
+
+    def _in_order(self) -> list[z3.BoolRef]:
+        internal = [m for m in self.moves if m.kind == "internal"]
+        touched = {m.index: self._footprint(m) for m in internal}
+        prev = self.cur[names.PREVIOUS]
+        cs = []
+        for later in internal:
+            reads, writes = touched[later.index]
+            earlier = [m.index for m in internal if m.index > later.index
+                       and not (touched[m.index][1] & (reads | writes)) and not (writes & touched[m.index][0])]
+            if earlier:
+                cs.append(z3.Implies(self.act == later.index, z3.And([prev != i for i in earlier])))
+        return cs
+
+    def _footprint(self, m: Move) -> tuple[set[str], set[str]]:
+        """The scalars a move reads and those it writes.  Not reading `halted()`: no internal move
+        makes a machine terminate (termination is a visible event), so it cannot change under one."""
+        eff = self.effect(m)
+        assert eff.enabled and eff.enabled[0].eq(z3.Not(self.halted())), "the first condition is 'not halted'"
+        slot_of = {self.cur[n].get_id(): n for n in self.sorts}
+        writes = {n for n, term in eff.post.items() if not term.eq(self.cur[n])}
+        reads: set[str] = set()
+        seen: set[int] = set()
+        stack: list[z3.ExprRef] = [*eff.enabled[1:], *eff.choose, *eff.post.values()]
+        while stack:
+            t = stack.pop()
+            if t.get_id() in seen:
+                continue
+            seen.add(t.get_id())
+            if t.get_id() in slot_of:
+                reads.add(slot_of[t.get_id()])
+            elif z3.is_app(t) and not z3.is_const(t) or z3.is_quantifier(t):
+                stack += t.children()
+            elif not z3.is_const(t):
+                stack += t.children()
+        return reads, writes
 
 
 def _end_event(link: Link) -> ast.Event:

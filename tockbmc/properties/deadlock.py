@@ -189,8 +189,10 @@ class LoopWatch:
     one comparison rather than one per earlier step, and k-induction applies.
     """
 
+    order_sensitive = True  # the saved copy is of a configuration between steps
+
     def __init__(self, system: TransitionSystem):
-        self.watched = [n for n in system.sorts if not names.is_loop_slot(n)]
+        self.watched = [n for n in system.sorts if not names.is_loop_slot(n) and n != names.PREVIOUS]
         self.sorts = {n: system.sorts[n] for n in self.watched}
         self.internal = [m.index for m in system.moves if m.kind == "internal"]
 
