@@ -7,7 +7,6 @@ enumerations and given types are integers (enumeration literal i is i).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Union
 
@@ -15,34 +14,10 @@ import z3
 
 from tockbmc.encodings.automaton import Unsupported, entry_clock
 from tockbmc.model import ast
+from tockbmc.model.ranges import Range as Range  # re-exported: ranges moved to model/ranges.py
+from tockbmc.model.ranges import Ranges as Ranges
 
 Value = Union[z3.ExprRef, dict[str, "Value"]]
-
-
-@dataclass(frozen=True)
-class Range:
-    """A closed interval bounding values the environment supplies."""
-
-    low: Fraction
-    high: Fraction
-
-    def __str__(self) -> str:
-        return f"{_num(self.low)}..{_num(self.high)}"
-
-
-def _num(x: Fraction) -> str:
-    return str(x.numerator) if x.denominator == 1 else str(float(x))
-
-
-@dataclass(frozen=True)
-class Ranges:
-    """Ranges by built-in or model type name (`core_int`, `MyType`) and by path (`EXAX::move.time`)."""
-
-    by_type: dict[str, Range] = field(default_factory=dict)
-    by_path: dict[str, Range] = field(default_factory=dict)
-
-    def describe(self) -> dict[str, str]:
-        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()}}
 
 
 TYPE_RANGE_NAMES = {"int": "core_int", "nat": "core_nat", "real": "core_real"}

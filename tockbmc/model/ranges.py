@@ -1,0 +1,37 @@
+"""Data ranges: closed intervals bounding the values the environment supplies (semantics.md §2.14)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+
+@dataclass(frozen=True)
+class Range:
+    """A closed interval bounding values the environment supplies."""
+
+    low: Fraction
+    high: Fraction
+
+    def __str__(self) -> str:
+        return f"{_num(self.low)}..{_num(self.high)}"
+
+
+def _num(x: Fraction) -> str:
+    return str(x.numerator) if x.denominator == 1 else str(float(x))
+
+
+@dataclass(frozen=True)
+class Ranges:
+    """Ranges by built-in or model type name (`core_int`, `MyType`) and by path (`EXAX::move.time`)."""
+
+    by_type: dict[str, Range] = field(default_factory=dict)
+    by_path: dict[str, Range] = field(default_factory=dict)
+
+    def describe(self) -> dict[str, str]:
+        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()}}
+
+
+def is_path(name: str) -> bool:
+    """A range name that is a path (`EXAX::move.time`) rather than a type (`core_int`, `Speed`)."""
+    return "::" in name or "." in name
