@@ -33,9 +33,6 @@ DIFFERENCES = {
     ("test-core-assertions", name): ("violated", _Z_UNSET)
     for name in ("M_term", "C1_term", "STM1_term", "M_timelock_free", "C1_timelock_free", "STM1_timelock_free")
 }
-DIFFERENCES[("test-core-assertions", "A1")] = (
-    "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always offers "
-                "M::e.in and never deadlocks (k-induction shows it for every length)")
 DIFFERENCES[("test8", "A2")] = (
     "violated", "controller variable x has no initial value: semantics.md §2.14 lets it start at any value of "
                 "core_nat=0..2, so M can output e1.1; RoboTool starts it at 0, nat's default, as TSpec assumes")
@@ -45,13 +42,6 @@ _ITYPE2NAT = ("function IType2nat has no body in the model: semantics.md §15 ma
               "(IType2nat(IType_L2) = 1), which gives the specification's 3")
 for _case in ("clocks-ops2", "clocks-ops3"):
     DIFFERENCES[(_case, "A1")] = ("violated", _ITYPE2NAT)
-    DIFFERENCES[(_case, "A0")] = (
-        "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always "
-                    "offers M::i.in and never deadlocks (k-induction shows it for every length)")
-
-DIFFERENCES[("clocks-ops1", "A4")] = (
-    "violated", "semantics.md §2.12: the (_async) connection from the platform's i accepts M::i.in at any time "
-                "(here before the output), and SpecM does not allow it; RoboTool's module does not offer it")
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
 CSP_CHECKED = {("test2", "t2a_timed"): "holds", ("test2", "t2b_timed"): "holds", ("test9", "A2"): "holds",
