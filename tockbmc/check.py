@@ -12,6 +12,7 @@ from tockbmc.encodings.composition import network_of
 from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
+from tockbmc.model.config import Configuration, configure
 from tockbmc.model.csp import CspError
 from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
 from tockbmc.properties.process import MonitorExtension
@@ -23,40 +24,47 @@ DEFAULT_BOUND = 40
 
 def check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
           ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
-          timeout: float | None = None, induction: bool = True, shortest: str = "steps") -> list[Result]:
+          timeout: float | None = None, induction: bool = True, shortest: str = "steps",
+          config: Configuration | None = None) -> list[Result]:
     """One `Result` per selected assertion (all by default), in file order.
 
+    Ranges and constants come from `config` (`model.config`), else from `ranges` and
+    `settings` (by constant name, as `--range` and `--set` give them) over the project's
+    instantiation; raises `model.config.ConfigError` for a name or value that does not fit.
     `induction=False` leaves BMC alone (to measure it); verdicts within the bound are the same.
     `shortest="events"` makes each counterexample one with the fewest visible steps (events and
     `tock`s) within the bound, rather than the first found, of fewest steps; it costs an unrolling
     to the bound.
     """
-    ranges = ranges or Ranges()
+    config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [check_assertion(project, a, bound, ranges, settings or {}, timeout, induction, shortest)
-            for a in project.assertions if wanted is None or a.name in wanted]
+    return [check_assertion(config.project, a, bound, config, timeout, induction, shortest)
+            for a in config.project.assertions if wanted is None or a.name in wanted]
 
 
-def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
-                    settings: dict[str, ast.Expr], timeout: float | None, induction: bool = True,
-                    shortest: str = "steps") -> Result:
+def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
+                    timeout: float | None, induction: bool = True, shortest: str = "steps") -> Result:
     """The verdict of one assertion: its goals searched in order (see `properties.queries.Query`)."""
     start = time.perf_counter()
-    described = ranges.describe()
+    ranges = config.ranges()
+    # what the result states it was checked with; the assertion's constants are known once it is queried
+    described: dict[str, str] = ranges.describe()
+    constants: dict[str, str] = {}
+    sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
     pos = str(a.pos)
 
     def result(verdict: str, reason: str | None, trace: tuple = (), searched: int | None = bound,
                extra: dict | None = None) -> Result:
         return Result(a.name, a.text, verdict, searched, described, time.perf_counter() - start, reason,
-                      trace=trace, pos=pos, extra=extra or {})
+                      trace=trace, pos=pos, extra=extra or {}, constants=constants, sources=sources)
 
     try:
         q = query(project, a)
+        setup = config.setup(a, q.element, q.settings)
+        described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         network = network_of(q.element, dict(q.defined))
         check_encodable(network)
-        consts = dict(settings)
-        consts.update(dict(q.settings))
-        consts.update({s.constant: s.value for s in a.settings if s.kind == "constant"})
+        ranges, consts = setup.ranges, setup.constants
         reasons: list[str] = []
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))

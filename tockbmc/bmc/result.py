@@ -32,11 +32,14 @@ class Result:
     engine: str = "bmc"
     pos: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    constants: dict[str, str] = field(default_factory=dict)  # constant (owner::name) -> value, or "parameter (…)"
+    sources: dict[str, dict[str, str]] = field(default_factory=dict)  # "ranges"/"constants" -> name -> source
 
     def to_json(self) -> dict[str, Any]:
         return {
             "assertion": self.assertion, "text": self.text, "verdict": self.verdict, "proof": self.proof,
-            "bound": self.bound, "ranges": self.ranges, "engine": self.engine, "seconds": round(self.seconds, 4),
+            "bound": self.bound, "ranges": self.ranges, "constants": self.constants, "sources": self.sources,
+            "engine": self.engine, "seconds": round(self.seconds, 4),
             "reason": self.reason, "pos": self.pos,
             "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
                        "changed": s.changed} for s in self.trace],

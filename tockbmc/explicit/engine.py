@@ -23,6 +23,7 @@ from tockbmc.bmc.result import Result, TraceStep
 from tockbmc.encodings.values import Ranges
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
 from tockbmc.model import ast
+from tockbmc.model.config import Configuration, configure
 from tockbmc.model.csp import CspError
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, Unenumerable, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
@@ -38,16 +39,18 @@ def ranges_dict(ranges: Ranges) -> dict[str, tuple[Fraction, Fraction]]:
 
 
 def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
-    """Constant values as Python values (literals and enumeration literals)."""
-    out: dict[str, object] = {}
-    for name, e in settings.items():
+    """Constant values as Python values (literals, enumeration literals, records of them)."""
+
+    def python(name: str, e: ast.Expr) -> object:
         if isinstance(e, ast.Literal):
-            out[name] = e.value
-        elif isinstance(e, ast.EnumLiteral):
-            out[name] = f"{e.enum.name}::{e.literal}"
-        else:
-            raise NotSupported(f"the value given to constant {name} is not a literal")
-    return out
+            return e.value
+        if isinstance(e, ast.EnumLiteral):
+            return f"{e.enum.name}::{e.literal}"
+        if isinstance(e, ast.RecordLiteral):
+            return {f: python(name, v) for f, v in e.fields}  # a Record once the interpreter coerces it
+        raise NotSupported(f"the value given to constant {name} is not a literal")
+
+    return {name: python(name, e) for name, e in settings.items()}
 
 
 @dataclass
@@ -232,30 +235,36 @@ def _literals(q: Query) -> dict[str, EnumValue]:
 
 def check_explicit(project: ast.Project, names: Iterable[str] | None, bound: int, ranges: Ranges,
                    settings: dict[str, ast.Expr], timeout: float | None,
-                   max_states: int = DEFAULT_MAX_STATES) -> list[Result]:
-    """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range."""
+                   max_states: int = DEFAULT_MAX_STATES, config: Configuration | None = None) -> list[Result]:
+    """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range.
+    Ranges and constants come from `config`, else from `ranges` and `settings` as `check` reads them."""
+    config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [_check(project, a, bound, ranges, settings, timeout, max_states)
-            for a in project.assertions if wanted is None or a.name in wanted]
+    return [_check(config.project, a, bound, config, timeout, max_states)
+            for a in config.project.assertions if wanted is None or a.name in wanted]
 
 
-def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, settings: dict[str, ast.Expr],
+def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
            timeout: float | None, max_states: int) -> Result:
     start = time.perf_counter()
     deadline = time.monotonic() + timeout if timeout is not None else None
     search: Search | None = None
+    described: dict[str, str] = config.ranges().describe()
+    constants: dict[str, str] = {}
+    sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
 
     def result(verdict: str, reason: str, trace: tuple = ()) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
-        return Result(a.name, a.text, verdict, bound if verdict != "unsupported" else None, ranges.describe(),
+        return Result(a.name, a.text, verdict, bound if verdict != "unsupported" else None, described,
                       time.perf_counter() - start, reason, trace=trace, engine="explicit", pos=str(a.pos),
-                      extra=extra)
+                      extra=extra, constants=constants, sources=sources)
 
     try:
         q = query(project, a)
-        consts = python_settings({**settings, **dict(q.settings),
-                                  **{s.constant: s.value for s in a.settings if s.kind == "constant"}})
-        interp = Interpreter(q.element, ranges_dict(ranges), consts, dict(q.defined))
+        setup = config.setup(a, q.element, q.settings)
+        described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
+        consts = python_settings(setup.constants)
+        interp = Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined))
         search = Search(interp, q, bound, max_states, deadline)
         if q.inclusion is not None and q.goals:  # equals: this direction first
             forward = _decide(a, q, search, result)

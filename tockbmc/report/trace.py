@@ -12,6 +12,7 @@ from tockbmc.encodings.composition import External
 from tockbmc.encodings.system import Move, System
 from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
+from tockbmc.model.config import declaration_key
 
 
 def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
@@ -55,10 +56,11 @@ def initial_choices(system: System, model: z3.ModelRef) -> dict[str, object]:
     """The values a run starts from that the model leaves open: constants and variables without a value."""
     out: dict[str, object] = {}
     for c, comp in enumerate(system.components):
-        for v in (*comp.machine.variables, *comp.machine.interface_variables):
+        inlined = [v for _, v in comp.automaton.extra_variables]
+        for v in (*comp.machine.variables, *comp.machine.interface_variables, *inlined):
             value = system.constants[c].get(id(v))
-            if value is not None:
-                out[v.name] = python_value(value, model, v.type)
+            if value is not None:  # keyed by declaration, as the configuration keys constants
+                out[declaration_key(v)] = python_value(value, model, v.type)
     for base, (t, initial, _c) in system.initial.items():
         if initial is None:
             out[base] = python_value(system.value(base, t, 0), model, t)
