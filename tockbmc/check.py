@@ -64,7 +64,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         network = network_of(q.element, dict(q.defined))
         check_encodable(network)
-        ranges, consts = setup.ranges, setup.constants
+        consts = setup.constants
         reasons: list[str] = []
         for goal in q.goals:
             remaining = None if timeout is None else max(0.001, timeout - (time.perf_counter() - start))

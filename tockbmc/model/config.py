@@ -181,7 +181,10 @@ def _value_of_text(text: str, t: ast.Type, name: str) -> ast.Expr:
     if t in ast.NUMERIC or isinstance(t, ast.GivenType):
         if text in ("true", "false"):
             raise ConfigError(f"{name} is {t}: '{text}' is not a number")
-        n = parse_number(text, "--set")
+        try:
+            n = parse_number(text, "--set")
+        except ConfigError as exc:
+            raise ConfigError(f"{name}: {exc}") from None
         if t != ast.REAL and n.denominator != 1:
             raise ConfigError(f"{name} is {t}: {text} is not an integer")
         if t == ast.NAT and n < 0:
@@ -498,7 +501,6 @@ class Configuration:
         self.warnings: list[Diagnostic] = []
         self.texts: dict[str, str] = {}  # instantiation files read, for diagnostics
         self._ranges: dict[str, _RangeEntry] = {}
-        self._range_types: dict[str, ast.Type] = {}
         for name, r in _range_items(default_ranges):
             if r is not None:
                 self._ranges[name] = _RangeEntry(r, ROBOTOOL_DEFAULT)
@@ -512,7 +514,6 @@ class Configuration:
             if r is not None:
                 check_range(name, t, r)
             self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
-            self._range_types[key] = t
         for name, given in (settings or {}).items():
             for v in self.names.constant(name, "--set"):
                 value = _value_of_text(given, v.type, name) if isinstance(given, str) else given
@@ -529,7 +530,7 @@ class Configuration:
                     raise ConfigError(f"{name} has a value in the model ({v.initial.pos.path}:{v.initial.pos.line}); "
                                       "--param is for constants the model leaves open", "--param")
                 self._flags[key] = _ConstEntry(None, FLAG_PARAM)
-        self._setups: dict[int, list[_Slot]] = {}
+        self._slots: dict[int, list[_Slot]] = {}
 
     # --- ranges
 
@@ -548,9 +549,9 @@ class Configuration:
               csp_arguments: Iterable[tuple[str, ast.Expr]] = ()) -> Setup:
         """The ranges and constants an assertion on `element` is checked with.  `csp_arguments`:
         the constants `M::D__(id, c1, …)` sets, by name (`properties.queries.Query.settings`)."""
-        slots = self._setups.get(id(element))
+        slots = self._slots.get(id(element))
         if slots is None:
-            slots = self._setups[id(element)] = robotool_slots(self.project, element)
+            slots = self._slots[id(element)] = robotool_slots(self.project, element)
         declared: dict[str, ast.Variable] = {}
         for s in slots:
             declared.setdefault(declaration_key(s.variable), s.variable)
@@ -749,7 +750,6 @@ class Configuration:
         except ConfigError as exc:
             raise inst.NotUnderstood(d.at(d.body), str(exc)) from None
         self._ranges[key] = _RangeEntry(r, Source("instantiation", _at(d.pos)))
-        self._range_types[key] = t
 
     def _constant(self, name: str, d: inst.Definition, variables: list[ast.Variable]) -> None:
         if d.params is not None:
