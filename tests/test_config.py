@@ -132,6 +132,30 @@ def test_unset_constants_take_robotools_default_values(tmp_path: Path) -> None:
     assert r.verdict == "holds"  # p == 0: the trigger's condition never holds
 
 
+def test_the_command_line_overrides_the_instantiation(tmp_path: Path) -> None:
+    p = project(tmp_path, "nametype core_int = {0..1}\nconst_M_p = 1\nsign(x) = 1\n")
+    [r] = check(p, bound=10)
+    assert r.verdict == "violated" and r.constants["M::p"] == "1"
+    config = configure(p, {"core_int": _range(-1, 0)}, {"M::p": "0"})
+    [r] = check(p, bound=10, config=config)
+    assert r.verdict == "holds"
+    assert r.ranges == {"core_int": "-1..0"} and r.sources["ranges"] == {"core_int": "--range"}
+    assert r.constants["M::p"] == "0" and r.sources["constants"]["M::p"] == "--set"
+    unbounded = configure(p, {"core_int": None})
+    assert unbounded.ranges().describe() == {}
+
+
+def test_the_explicit_engine_reads_the_same_configuration(tmp_path: Path) -> None:
+    from tockbmc.explicit.engine import check_explicit
+    from tockbmc.model.ranges import Ranges
+    p = project(tmp_path, "nametype core_int = {0..1}\nnametype Speed = {0..1}\nconst_M_p = 1\nsign(x) = 1\n")
+    [r] = check_explicit(p, None, 10, Ranges(), {}, 10)
+    assert r.verdict == "violated" and r.engine == "explicit"
+    assert r.constants["M::p"] == "1" and r.sources["constants"]["M::p"].endswith("instantiations.csp:3")
+    [r] = check_explicit(p, None, 10, Ranges(), {}, 10, config=configure(p, settings={"M::p": "0"}))
+    assert r.verdict == "holds"
+
+
 def test_the_file_in_csp_gen_is_read_when_the_root_has_none(tmp_path: Path) -> None:
     p = project(tmp_path, "const_M_p = 1\nnametype core_int = {0..1}\n", where="csp-gen/instantiations.csp")
     config = configure(p)
