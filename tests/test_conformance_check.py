@@ -1,61 +1,43 @@
 """Check every assertion of RoboTool's regression suite that tockbmc supports.
 
-Every assertion in `robochart/` is written to hold.  Each supported-form
-assertion is checked with RoboTool's default ranges (`core_int=-2..2`,
-`core_real=-2..2`, `core_nat=0..2`) and must hold, except the ones listed in
-`DIFFERENCES` with the reason.  The bound here is kept small so that the suite
-stays fast; `benchmarks/conformance.py` runs the same check at the default
-bound and prints the counts.
+Every assertion in `robochart/` is written to hold.  Each supported-form assertion is checked as
+RoboTool reads the case: RoboTool's default ranges (`core_int=-2..2`, `core_real=-2..2`,
+`core_nat=0..2`) under the case's own `Instantiations` block, and RoboTool's default values for
+constants without one.  Each must hold, except the ones listed in `DIFFERENCES` with the reason
+(DESIGN.md, "Conformance").  The bound here is kept small so that the suite stays fast;
+`benchmarks/conformance.py` runs the same check at the default bound and prints the counts.
 """
 
 from __future__ import annotations
 
-from fractions import Fraction
 from functools import cache
 
-import pytest
 from conftest import CONFORMANCE
 
 from tockbmc import ModelError, load
 from tockbmc.check import check
-from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ast
+from tockbmc.model.config import ROBOTOOL_RANGES, Configuration, configure
 
 BOUND = 12
-ROBOTOOL_RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_real": Range(Fraction(-2), Fraction(2)),
-                          "core_nat": Range(Fraction(0), Fraction(2))})
 
-_Z_UNSET = ("constant z has no value: semantics.md §15 considers every value in core_nat=0..2, and z=2 lets STM1 "
-            "reach its final state; RoboTool's instantiations.csp gives it 0 (see the model's comment), and with "
-            "z=0 the assertion holds")
 # (case, assertion) -> (tockbmc's verdict, why it differs from RoboTool's intended one)
 DIFFERENCES = {
-    ("test-core-assertions", name): ("violated", _Z_UNSET)
-    for name in ("M_term", "C1_term", "STM1_term", "M_timelock_free", "C1_timelock_free", "STM1_timelock_free")
+    ("test8", "A2"): (
+        "violated", "controller variable x has no initial value: semantics.md §2.14 lets the environment choose "
+                    "it (any value of core_nat=0..2), so M can output e1.1; RoboTool's memory starts it at nat's "
+                    "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes"),
 }
-DIFFERENCES[("test-core-assertions", "A1")] = (
-    "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always offers "
-                "M::e.in and never deadlocks (k-induction shows it for every length)")
-DIFFERENCES[("test8", "A2")] = (
-    "violated", "controller variable x has no initial value: semantics.md §2.14 lets it start at any value of "
-                "core_nat=0..2, so M can output e1.1; RoboTool starts it at 0, nat's default, as TSpec assumes")
-
-_ITYPE2NAT = ("function IType2nat has no body in the model: semantics.md §15 makes it uninterpreted, so "
-              "IType2nat(L2) may be 0 and the output 2; RoboTool's instantiations block defines it "
-              "(IType2nat(IType_L2) = 1), which gives the specification's 3")
-for _case in ("clocks-ops2", "clocks-ops3"):
-    DIFFERENCES[(_case, "A1")] = ("violated", _ITYPE2NAT)
-    DIFFERENCES[(_case, "A0")] = (
-        "violated", "semantics.md §2.12: the platform writes into the (_async) buffer at any time, so M always "
-                    "offers M::i.in and never deadlocks (k-induction shows it for every length)")
-
-DIFFERENCES[("clocks-ops1", "A4")] = (
-    "violated", "semantics.md §2.12: the (_async) connection from the platform's i accepts M::i.in at any time "
-                "(here before the output), and SpecM does not allow it; RoboTool's module does not offer it")
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
 CSP_CHECKED = {("test2", "t2a_timed"): "holds", ("test2", "t2b_timed"): "holds", ("test9", "A2"): "holds",
-               ("test8", "A2"): "violated"}
+               ("test8", "A2"): "violated", ("clocks-ops2", "A1"): "holds", ("clocks-ops3", "A1"): "holds",
+               ("clocks-ops1", "A4"): "holds"}
+
+
+def robotool_config(project: ast.Project) -> Configuration:
+    """The configuration RoboTool would check a case with (its instantiation over the default ranges)."""
+    return configure(project, default_ranges=ROBOTOOL_RANGES)
 
 
 @cache
@@ -66,7 +48,7 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
             project = load(case)
         except ModelError:
             continue  # test_conformance_load.py says which cases load
-        for r in check(project, bound=BOUND, ranges=ROBOTOOL_RANGES, timeout=60):
+        for r in check(project, bound=BOUND, timeout=60, config=robotool_config(project)):
             out[(case.name, r.assertion)] = (r.verdict, r.reason or "")
     return out
 
@@ -78,7 +60,13 @@ def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
     holding = sum(1 for v in checked.values() if v[0] == "holds")
     print(f"\n{len(checked)} corpus assertions checked, {holding} hold, "
           f"{len(results()) - len(checked)} unsupported")
-    assert holding >= 52  # the count when this test was written; a drop is a regression
+    assert holding >= 64  # the count when this test was written; a drop is a regression
+
+
+def test_one_assertion_is_decided_differently_from_robotool() -> None:
+    """The differences left: RoboTool's expectation is that every assertion holds."""
+    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported")}
+    assert differ == set(DIFFERENCES)
 
 
 def test_csp_refinements_in_the_subset_are_checked() -> None:
@@ -92,12 +80,40 @@ def test_differences_are_still_differences() -> None:
         assert results()[key][0] == verdict, key
 
 
-@pytest.mark.parametrize("name", ["M_term", "C1_term", "STM1_term", "STM1_timelock_free"])
-def test_with_robotools_default_for_z_the_differences_hold(name: str) -> None:
+def test_unset_constant_takes_robotools_default_and_the_command_line_overrides_it() -> None:
+    """test-core-assertions: "By default the value of constant z will be 0 from instantiations.csp".
+    With z = 0 STM1 never terminates; `--set z=2` (or z a parameter of core_nat) lets it terminate."""
     project = load(CONFORMANCE / "robochart" / "test-core-assertions")
-    zero = ast.Literal(ast.NAT, ast.Pos("<command line>", 1, 1), 0)
-    [r] = check(project, [name], bound=BOUND, ranges=ROBOTOOL_RANGES, settings={"z": zero})
-    assert r.verdict == "holds"
+    names = ["M_term", "C1_term", "STM1_term", "STM1_timelock_free"]
+    for r in check(project, names, bound=BOUND, config=robotool_config(project)):
+        assert r.verdict == "holds", r.assertion
+        assert r.constants == {"IConsts::z": "0"} and r.sources["constants"] == {"IConsts::z": "RoboTool default"}
+    two = configure(project, settings={"M::z": "2"}, default_ranges=ROBOTOOL_RANGES)
+    free = configure(project, params=["z"], default_ranges=ROBOTOOL_RANGES)
+    for config in (two, free):
+        for r in check(project, names, bound=BOUND, config=config):
+            assert r.verdict == "violated", r.assertion
+
+
+def test_instantiation_blocks_give_ranges_constants_and_functions() -> None:
+    """clocks-ops2's `Instantiations` block: core_nat = {0..3}, const_opC_x2 = 0, and IType2nat by
+    cases; A2 sets only opB's x2, so opC's comes from the block, and IType2nat(L2) = 1 gives A1's 3."""
+    project = load(CONFORMANCE / "robochart" / "clocks-ops2")
+    config = robotool_config(project)
+    assert config.ranges().describe() == {"core_nat": "0..3", "core_real": "-2..2", "core_int": "-2..2"}
+    assert config.range_sources()["core_nat"].endswith("clock-ops.assertions:5")
+    assert config.range_sources()["core_int"].endswith("clock-ops.assertions:35")
+    [a1, a2] = check(project, ["A1", "A2"], bound=BOUND, config=config)
+    assert a1.verdict == "holds" and a2.verdict == "holds"
+    assert a2.constants["opC::x2"] == "0" and a2.sources["constants"]["opC::x2"].endswith("clock-ops.assertions:32")
+    assert a2.constants["opB::x2"] == "1" and a2.sources["constants"]["opB::x2"].startswith("with constant")
+    [f] = config.project.functions
+    assert f.name == "IType2nat" and f.definition is not None
+    stale = [w for w in config.warnings if "const_clocks1_opC_x2" in w.message]
+    assert stale and "did you mean 'const_opC_x2'" in stale[0].message
+    without = configure(project, default_ranges=ROBOTOOL_RANGES, instantiation=False)
+    [a1] = check(project, ["A1"], bound=BOUND, config=without)
+    assert a1.verdict == "violated"  # IType2nat uninterpreted: IType2nat(L2) may be 0
 
 
 def test_unsupported_results_name_their_reason() -> None:

@@ -29,16 +29,18 @@ from conftest import write_files
 import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
+from tockbmc.model.config import configure
 from tockbmc.model.result import Result
 
 MINUS1_1 = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 
 
 def run(tmp_path: Path, rct: str, assertions: str, bound: int = 14, ranges: Ranges | None = None,
-        names: list[str] | None = None) -> dict[str, Result]:
+        names: list[str] | None = None, params: tuple[str, ...] = ()) -> dict[str, Result]:
     write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
     project = tockbmc.load(tmp_path)
-    return {r.assertion: r for r in check(project, names, bound=bound, ranges=ranges or Ranges())}
+    config = configure(project, ranges or Ranges(), params=params)
+    return {r.assertion: r for r in check(project, names, bound=bound, config=config)}
 
 
 def events(r: Result) -> list[str]:
@@ -954,8 +956,9 @@ def test_model_process_arguments_set_constants(tmp_path) -> None:
     """§4 `M::D__(id, c1, …)` / `M::O__(id, …)`: arguments after id set K's constants in
     declaration order (p, then q). K outputs e!p then f!q (not urgent). KS = e.1 -> f.0 -> STOP.
     D__(0, 1, 0): p = 1, q = 0: holds. D__(0, 0, 1): p = 0: <K::e.out.0>. O__(0, 1, 1): q = 1:
-    <K::e.out.1, K::f.out.1>. K itself, with core_int = -1..1, has every p: the counterexample
-    is one event K::e.out.v with v in {-1, 0}. With p and q set by `with constant`: holds.
+    <K::e.out.1, K::f.out.1>. K itself takes RoboTool's default p = q = 0: <K::e.out.0>; with p a
+    parameter (core_int = -1..1), the counterexample is one event K::e.out.v with v in {-1, 0}.
+    With p and q set by `with constant`: holds.
     """
     rct = """
 stm K {
@@ -987,9 +990,12 @@ assertion KSet: K refines KS in the traces model with constant p of K set to 1 a
     expect(rs["AK10"], "holds")
     expect(rs["AK01"], "violated", ["K::e.out.0"])
     expect(rs["AK11"], "violated", ["K::e.out.1", "K::f.out.1"])
-    expect(rs["KAll"], "violated")
-    assert events(rs["KAll"]) in (["K::e.out.-1"], ["K::e.out.0"]), events(rs["KAll"])
+    expect(rs["KAll"], "violated", ["K::e.out.0"])
     expect(rs["KSet"], "holds")
+    ps = run(tmp_path, rct, text, ranges=MINUS1_1, names=["KAll", "AK10"], params=("p", "q"))
+    expect(ps["KAll"], "violated")
+    assert events(ps["KAll"]) in (["K::e.out.-1"], ["K::e.out.0"]), events(ps["KAll"])
+    expect(ps["AK10"], "holds")  # D__ arguments set a parameter too
 
 
 # ---------------------------------------------------------------------------- outside the subset

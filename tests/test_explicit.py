@@ -14,7 +14,7 @@ from fractions import Fraction
 import pytest
 from click.testing import CliRunner
 from conftest import CONFORMANCE, EXAMPLE
-from test_conformance_check import ROBOTOOL_RANGES, results
+from test_conformance_check import results, robotool_config
 
 from tockbmc import ModelError, load
 from tockbmc.bmc.witness import initial_choices
@@ -38,7 +38,8 @@ def test_engines_agree_on_the_corpus() -> None:
             project = load(case)
         except ModelError:
             continue
-        for r in check_explicit(project, None, 12, ROBOTOOL_RANGES, {}, timeout=3, max_states=100_000):
+        for r in check_explicit(project, None, 12, Ranges(), {}, timeout=3, max_states=100_000,
+                                config=robotool_config(project)):
             bmc_verdict = results()[(case.name, r.assertion)][0]
             if {bmc_verdict, r.verdict} & {"unsupported", "unknown"}:
                 continue

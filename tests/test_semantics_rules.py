@@ -16,16 +16,18 @@ from conftest import write_files
 import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
+from tockbmc.model.config import configure
 from tockbmc.model.result import Result
 
 MINUS1_1 = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 
 
 def run(tmp_path: Path, rct: str, assertions: str, bound: int = 14, ranges: Ranges | None = None,
-        names: list[str] | None = None) -> dict[str, Result]:
+        names: list[str] | None = None, params: tuple[str, ...] = ()) -> dict[str, Result]:
     write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
     project = tockbmc.load(tmp_path)
-    return {r.assertion: r for r in check(project, names, bound=bound, ranges=ranges or Ranges())}
+    config = configure(project, ranges or Ranges(), params=params)
+    return {r.assertion: r for r in check(project, names, bound=bound, config=config)}
 
 
 def events(r: Result) -> list[str]:
@@ -958,8 +960,9 @@ stm M {
 
 
 def test_rule15_constants_with_and_without_value(tmp_path) -> None:
-    """§2.15, §3: p has no value, so every p in -1..1 is considered (p == 1 terminates) unless
-    `with constant` fixes it; k == 2 from its declaration. With p = 0, s only lets time pass."""
+    """§2.15, §3: p has no value, so it takes RoboTool's default, 0, and M never terminates; made a
+    parameter (`--param p`), every p in -1..1 is considered and p == 1 terminates; `with constant`
+    fixes it either way; k == 2 from its declaration. With p = 0, s only lets time pass."""
     rct = """
 stm M {
   const k : int = 2
@@ -972,18 +975,25 @@ stm M {
   transition t1 { from s to f trigger e condition p == 1 /\\ k == 2 }
 }
 """
-    rs = run(tmp_path, rct, "assertion NT: M does not terminate.\n"
-                            "assertion NT0: M does not terminate with constant p of M set to 0.\n"
-                            "assertion NT1: M does not terminate with constant p of M set to 1.\n"
-                            "assertion DL0: M is deadlock-free with constant p of M set to 0.\n"
-                            "assertion DL1: M is deadlock-free with constant p of M set to 1.\n",
-             ranges=MINUS1_1)
-    expect(rs["NT"], "violated", ["M::e.in", "M::terminate"])
+    text = ("assertion NT: M does not terminate.\n"
+            "assertion NT0: M does not terminate with constant p of M set to 0.\n"
+            "assertion NT1: M does not terminate with constant p of M set to 1.\n"
+            "assertion DL0: M is deadlock-free with constant p of M set to 0.\n"
+            "assertion DL1: M is deadlock-free with constant p of M set to 1.\n")
+    rs = run(tmp_path, rct, text, ranges=MINUS1_1)
+    expect(rs["NT"], "holds")
+    assert rs["NT"].constants == {"M::k": "2", "M::p": "0"}
+    assert rs["NT"].sources["constants"]["M::p"] == "RoboTool default"
     expect(rs["NT0"], "holds")
     expect(rs["NT1"], "violated", ["M::e.in", "M::terminate"])
     expect(rs["DL0"], "violated")
     assert [e for e in events(rs["DL0"]) if e != "tock"] == []
     expect(rs["DL1"], "holds")
+    ps = run(tmp_path, rct, text, ranges=MINUS1_1, params=("p",))
+    expect(ps["NT"], "violated", ["M::e.in", "M::terminate"])
+    assert ps["NT"].constants["M::p"] == "parameter (-1..1)" and ps["NT"].sources["constants"]["M::p"] == "--param"
+    expect(ps["NT1"], "violated", ["M::e.in", "M::terminate"])  # `with constant` still fixes a parameter
+    expect(ps["NT0"], "holds")
 
 
 def test_rule15_defined_and_uninterpreted_functions(tmp_path) -> None:

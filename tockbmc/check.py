@@ -19,6 +19,7 @@ from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
 from tockbmc.model import ast
+from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
@@ -32,28 +33,37 @@ DEFAULT_BOUND = 40
 
 def check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
           ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
-          timeout: float | None = None, induction: bool = True, shortest: str = "steps") -> list[Result]:
+          timeout: float | None = None, induction: bool = True, shortest: str = "steps",
+          config: Configuration | None = None) -> list[Result]:
     """One `Result` per selected assertion (all by default), in file order.
 
+    Ranges and constants come from `config` (`model.config`), else from `ranges` and
+    `settings` (by constant name, as `--range` and `--set` give them) over the project's
+    instantiation; raises `model.config.ConfigError` for a name or value that does not fit.
     `induction=False` leaves BMC alone (to measure it); verdicts within the bound are the same.
     `shortest="events"` makes each counterexample one with the fewest visible steps (events and
     `tock`s) within the bound, rather than the first found, of fewest steps; it costs an unrolling
     to the bound.
     """
-    ranges = ranges or Ranges()
+    config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [check_assertion(project, a, bound, ranges, settings or {}, timeout, induction, shortest)
-            for a in project.assertions if wanted is None or a.name in wanted]
+    return [check_assertion(config.project, a, bound, config, timeout, induction, shortest)
+            for a in config.project.assertions if wanted is None or a.name in wanted]
 
 
 class _Check:
     """The search for one assertion's verdict, and the `Result` it gives."""
 
-    def __init__(self, a: ast.Assertion, bound: int, ranges: Ranges, settings: dict[str, ast.Expr],
-                 timeout: float | None, induction: bool, shortest: str):
-        self.a, self.bound, self.ranges, self.timeout = a, bound, ranges, timeout
+    def __init__(self, a: ast.Assertion, bound: int, config: Configuration, timeout: float | None,
+                 induction: bool, shortest: str):
+        self.a, self.bound, self.config, self.timeout = a, bound, config, timeout
         self.induction, self.shortest = induction, shortest
-        self.settings = settings
+        self.ranges = config.ranges()
+        # What the result states it was checked with; the assertion's constants are known once it is queried.
+        self.described: dict[str, str] = self.ranges.describe()
+        self.constants: dict[str, str] = {}
+        self.sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
+        self.consts: dict[str, ast.Expr] = {}
         self.start = time.perf_counter()
         self.reasons: list[str] = []  # what the goals searched so far have shown
         self.proof = Proof.K_INDUCTION  # of a "holds": weakened to BOUNDED by the first goal shown only to the bound
@@ -66,21 +76,24 @@ class _Check:
     def result(self, verdict: Verdict, reason: str | None, *, proof: Proof, depth: int | None,
                trace: tuple[TraceStep, ...] = (), extra: dict | None = None) -> Result:
         return Result(assertion=self.a.name, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
-                      ranges=self.ranges.describe(), seconds=time.perf_counter() - self.start, reason=reason,
-                      trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {})
+                      ranges=self.described, seconds=time.perf_counter() - self.start, reason=reason,
+                      trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {}, constants=self.constants,
+                      sources=self.sources)
 
     def unsupported(self, exc: Unsupported) -> Result:
         return Result(assertion=self.a.name, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
-                      ranges=self.ranges.describe(), seconds=time.perf_counter() - self.start, reason=exc.reason,
-                      proof=Proof.NONE, pos=str(self.a.pos))
+                      ranges=self.described, seconds=time.perf_counter() - self.start, reason=exc.reason,
+                      proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources)
 
     def run(self, project: ast.Project) -> Result:
         try:
             q = query(project, self.a)
+            setup = self.config.setup(self.a, q.element, q.settings)
+            self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
+                                                            setup.sources)
             network = network_of(q.element, dict(q.defined))
             check_encodable(network)
-            consts = {**self.settings, **dict(q.settings),
-                      **{s.constant: s.value for s in self.a.settings if s.kind == "constant"}}
+            consts = self.consts = setup.constants
             for goal in q.goals:
                 decided = self.search(q, goal, network, consts)
                 if decided is not None:
@@ -147,9 +160,7 @@ class _Check:
             why = f"{why} ({outcome.reason})"
         if goal.found == Verdict.HOLDS and self.reasons:  # earlier goals found nothing wrong
             why = "; ".join([*self.reasons, f"witness: {why}"])
-        consts = {**self.settings, **dict(q.settings),
-                  **{s.constant: s.value for s in self.a.settings if s.kind == "constant"}}
-        replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, consts)
+        replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
         extra = {"replayed": replayed}
         if outcome.reason:  # `shortest="events"` could not finish
             extra["shortest"] = outcome.reason
@@ -178,11 +189,10 @@ class _Check:
         return None
 
 
-def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,
-                    settings: dict[str, ast.Expr], timeout: float | None, induction: bool = True,
-                    shortest: str = "steps") -> Result:
+def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
+                    timeout: float | None, induction: bool = True, shortest: str = "steps") -> Result:
     """The verdict of one assertion: its goals searched in order (see `properties.goals.Query`)."""
-    return _Check(a, bound, ranges, settings, timeout, induction, shortest).run(project)
+    return _Check(a, bound, config, timeout, induction, shortest).run(project)
 
 
 def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,

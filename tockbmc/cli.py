@@ -7,7 +7,6 @@ import json
 import os
 import sys
 from collections.abc import Callable
-from fractions import Fraction
 from typing import TypeVar
 
 import click
@@ -17,7 +16,8 @@ from rich.text import Text
 from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.check import check as run_check
-from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.model import ModelError, Project, load
+from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import exit_code
@@ -76,50 +76,49 @@ def show(paths: tuple[str, ...], fmt: str) -> None:
 def _parse_range(text: str) -> tuple[str, Range | None]:
     name, sep, spec = text.partition("=")
     if not sep or not name:
-        raise click.BadParameter(f"'{text}': expected NAME=LO..HI or NAME=unbounded")
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI or NAME=unbounded", param_hint="'--range'")
     if spec == "unbounded":
         return name, None
     low, sep, high = spec.partition("..")
+    if not sep:
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI, e.g. core_int=-1..1", param_hint="'--range'")
     try:
-        lo, hi = Fraction(low), Fraction(high)
-    except (ValueError, ZeroDivisionError):
-        raise click.BadParameter(f"'{text}': expected NAME=LO..HI with numbers, e.g. core_int=-1..1") from None
-    if not sep or lo > hi:
-        raise click.BadParameter(f"'{text}': expected NAME=LO..HI with LO <= HI")
+        lo, hi = parse_number(low, "--range"), parse_number(high, "--range")
+    except ConfigError as exc:
+        raise click.BadParameter(f"'{text}': {exc}", param_hint="'--range'") from None
+    if lo > hi:
+        raise click.BadParameter(f"'{text}': expected NAME=LO..HI with LO <= HI", param_hint="'--range'")
     return name, Range(lo, hi)
 
 
-def _ranges(specs: tuple[str, ...]) -> Ranges:
-    by_type: dict[str, Range] = {}
-    by_path: dict[str, Range] = {}
-    for spec in specs:
-        name, r = _parse_range(spec)
-        table = by_path if ("::" in name or "." in name) else by_type
-        table.pop(name, None)
-        if r is not None:
-            table[name] = r
-    return Ranges(by_type, by_path)
+def _ranges(specs: tuple[str, ...]) -> dict[str, Range | None]:
+    """`--range` options by name, the last one of a name winning; names are checked against the model later."""
+    return dict(_parse_range(spec) for spec in specs)
 
 
-def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
-    result: dict[str, ast.Expr] = {}
-    pos = ast.Pos("<command line>", 1, 1)
+def _settings(specs: tuple[str, ...]) -> dict[str, str]:
+    """`--set` options by name; names and values are checked against the model later."""
+    result: dict[str, str] = {}
     for spec in specs:
         name, sep, text = spec.partition("=")
-        if not sep or not name:
-            raise click.BadParameter(f"'{spec}': expected NAME=VALUE")
-        if text in ("true", "false"):
-            result[name] = ast.Literal(ast.BOOLEAN, pos, text == "true")
-            continue
-        try:
-            value = Fraction(text)
-        except (ValueError, ZeroDivisionError):
-            raise click.BadParameter(f"'{spec}': VALUE must be a number, true or false") from None
-        if value.denominator == 1:
-            result[name] = ast.Literal(ast.NAT if value >= 0 else ast.INT, pos, int(value))
-        else:
-            result[name] = ast.Literal(ast.REAL, pos, value)
+        if not sep or not name or not text:
+            raise click.BadParameter(f"'{spec}': expected NAME=VALUE", param_hint="'--set'")
+        result[name] = text
     return result
+
+
+def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[str, ...],
+               param_specs: tuple[str, ...] = ()) -> Configuration:
+    """Resolve `--range`, `--set` and `--param` against the model and its instantiation (exit 2 if one
+    does not fit); print the instantiation's warnings."""
+    ranges, settings = _ranges(range_specs), _settings(set_specs)
+    try:
+        config = configure(project, ranges, settings, param_specs)
+    except ConfigError as exc:
+        raise click.BadParameter(str(exc), param_hint=f"'{exc.option}'") from None
+    if config.warnings:
+        click.echo(render(config.warnings, {**project.sources, **config.texts}), err=True)
+    return config
 
 
 @cli.command()
@@ -130,7 +129,10 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
 @click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI",
               help="Bound a type (core_int, core_nat, core_real, a model type) or a path (EXAX::move.time); "
                    "NAME=unbounded lifts it.")
-@click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
+@click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE",
+              help="Give a constant a value (NAME: n, UR::n, main::ctrl::ur_ref::n, …); overrides the instantiation.")
+@click.option("--param", "param_specs", multiple=True, metavar="NAME",
+              help="Make a constant without a value a parameter: every value of its type and range is considered.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",
@@ -147,20 +149,21 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
                                            "module (deadlock-free, deterministic, divergence-free, timelock-free); "
                                            "a model without assertions gets them anyway.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
-          set_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str, max_states: int,
-          shortest: str, core: bool) -> None:
+          set_specs: tuple[str, ...], param_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str,
+          max_states: int, shortest: str, core: bool) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
     unsupported, 2 usage error, 3 model error, 1 internal error.
     """
-    ranges = _ranges(range_specs)
-    settings = _settings(set_specs)
+    _ranges(range_specs)  # malformed options are usage errors, found before any loading
+    _settings(set_specs)
     project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
             click.echo("tockbmc: the model has no assertions: checking RoboTool's core assertions", err=True)
         project = dataclasses.replace(project, assertions=project.assertions + core_assertions(project))
+    config = _configure(project, range_specs, set_specs, param_specs)
     known = {a.name for a in project.assertions}
     for n in names:
         if n not in known:
@@ -170,12 +173,12 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         from tockbmc.explicit.engine import check_explicit
         from tockbmc.explicit.interpreter import Unbounded
         try:
-            results = check_explicit(project, names or None, bound, ranges, settings, timeout, max_states)
+            results = check_explicit(project, names or None, bound, Ranges(), {}, timeout, max_states, config)
         except Unbounded as exc:
             raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
-        results = run_check(project, names or None, bound, ranges, settings, timeout, shortest=shortest)
+        results = run_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config)
     try:
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
@@ -207,12 +210,12 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
              set_specs: tuple[str, ...]) -> None:
     """Print a random run of an element of the model in PATHS, as a trace."""
     from tockbmc.explicit.interpreter import NotInterpretable, Unbounded
-    from tockbmc.explicit.simulate import run_random
+    from tockbmc.explicit.simulate import pick, run_random
     project = _load(paths)
-    ranges = _ranges(range_specs)
-    settings = _settings(set_specs)
+    config = _configure(project, range_specs, set_specs)
     try:
-        result = run_random(project, element, steps, seed, ranges, settings)
+        setup = config.setup(None, pick(config.project, element))
+        result = run_random(config.project, element, steps, seed, setup.ranges, setup.constants)
     except LookupError as exc:
         raise click.BadParameter(str(exc), param_hint="'--element'") from None
     except Unbounded as exc:

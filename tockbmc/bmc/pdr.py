@@ -14,13 +14,16 @@ it).  The invariant is not taken on trust: it is checked again, in a fresh
 solver, to contain the initial configurations, to be closed under a step and to
 exclude the target, before a verdict rests on it.
 
-Spacer runs in a Z3 context of its own, so it can run in a thread beside BMC
-(`bmc.portfolio`); it applies when the formulas are quantifier-free and call no
+Spacer runs in a process of its own, beside BMC (`bmc.portfolio`); it applies when the formulas are quantifier-free and call no
 uninterpreted function (functions without a body, or with pre/postconditions),
 which Horn clauses over arithmetic cannot express.
 """
 
 from __future__ import annotations
+
+import multiprocessing
+import multiprocessing.process
+from multiprocessing.connection import Connection
 
 import z3
 
@@ -56,62 +59,94 @@ def _outside(term: z3.ExprRef) -> str | None:
     return None
 
 
+def _solve(query: str, timeout: float | None, answer: Connection) -> None:
+    """In a process of its own: solve the Horn query (SMT-LIB text) and send back ("proved", the
+    invariant as an SMT-LIB term over the relation's arguments), ("reachable", "") or ("unknown", "")."""
+    try:
+        solver = z3.SolverFor("HORN")
+        if timeout is not None:
+            solver.set("timeout", max(1, int(timeout * 1000)))
+        solver.from_string(query)
+        result = solver.check()
+        if result == z3.sat:
+            model = solver.model()
+            inv = next(d for d in model.decls() if d.name() == "Inv")
+            interp = model[inv]
+            body = interp.else_value() if isinstance(interp, z3.FuncInterp) else interp
+            names = query.split("\n", 1)[0].removeprefix("; arguments: ").split("\t")
+            args = [z3.Const(n, inv.domain(i)) for i, n in enumerate(names)]
+            # The interpretation reads argument i as variable i.
+            term = z3.substitute_vars(body, *args) if body is not None else z3.BoolVal(True)
+            answer.send(("proved", term.sexpr()))
+        else:
+            answer.send(("reachable" if result == z3.unsat else "unknown", ""))
+    except Exception:  # noqa: BLE001 - any failure of the child is "no answer"
+        answer.send(("unknown", ""))
+
+
 class Spacer:
-    """One Horn-clause query for one target, built in a context of its own."""
+    """One Horn-clause query for one target, solved in a process of its own.
+
+    Z3 contexts are meant to be usable from several threads, but a Horn query solved in a thread
+    beside BMC was seen to corrupt BMC's solver (bogus models); a process shares nothing."""
 
     def __init__(self, system: TransitionSystem, target: z3.BoolRef):
-        self.ctx = z3.Context()
-        self.system = system
         init, trans = system.init(), system.trans()  # built first: building them declares the inputs
         constants = {t.get_id(): t for c in system.constants.values() for v in c.values() for _p, t in leaves(v)}
-        self.names = list(system.sorts)
-        cur = [system.cur[n] for n in self.names] + list(constants.values())
-        nxt = [system.nxt[n] for n in self.names] + list(constants.values())
+        names = list(system.sorts)
+        self.args = [system.cur[n] for n in names] + list(constants.values())
+        nxt = [system.nxt[n] for n in names] + list(constants.values())
         inputs = [t for _t, v in system.inputs.values() for _p, t in leaves(v)]
-        self.cur = cur
-        self.inv = z3.Function("Inv", *[x.sort() for x in cur], z3.BoolSort())
-        steps = cur + [system.nxt[n] for n in self.names] + [system.act] + inputs
-        clauses = [
-            z3.ForAll(cur, z3.Implies(init, self.inv(*cur))),
-            z3.ForAll(steps, z3.Implies(z3.And(self.inv(*cur), trans), self.inv(*nxt))),
-            z3.ForAll(cur, z3.Implies(z3.And(self.inv(*cur), target), z3.BoolVal(False))),
-        ]
-        self.solver = z3.SolverFor("HORN", ctx=self.ctx)
-        self.solver.add(*[c.translate(self.ctx) for c in clauses])
-        self.cur_here = [x.translate(self.ctx) for x in cur]
-        self.inv_here = self.inv.translate(self.ctx)  # type: ignore[attr-defined]
-
+        inv = z3.Function("Inv", *[x.sort() for x in self.args], z3.BoolSort())
+        cur = self.args
+        steps = cur + [system.nxt[n] for n in names] + [system.act] + inputs
+        solver = z3.Solver()
+        solver.add(z3.ForAll(cur, z3.Implies(init, inv(*cur))),
+                   z3.ForAll(steps, z3.Implies(z3.And(inv(*cur), trans), inv(*nxt))),
+                   z3.ForAll(cur, z3.Implies(z3.And(inv(*cur), target), z3.BoolVal(False))))
+        self.query = "; arguments: " + "\t".join(str(x) for x in cur) + "\n" + solver.sexpr()
         self.status = "unknown"
-        self._invariant: z3.ExprRef | None = None
+        self._invariant = ""
+        self._process: multiprocessing.process.BaseProcess | None = None
+        self._answer: Connection | None = None
 
-    def run(self, timeout: float | None) -> str:
-        """Solve, touching only this query's context (so it may run in a thread of its own):
-        "proved" (an invariant was found), "reachable", or "unknown"."""
-        if timeout is not None:
-            self.solver.set("timeout", max(1, int(timeout * 1000)))
-        try:
-            result = self.solver.check()
-            if result == z3.sat:
-                interp = self.solver.model()[self.inv_here]
-                body = interp.else_value() if isinstance(interp, z3.FuncInterp) else interp
-                # The interpretation reads argument i as variable i.
-                self._invariant = (z3.substitute_vars(body, *self.cur_here) if body is not None
-                                   else z3.BoolVal(True, self.ctx))
-                self.status = "proved"
-            elif result == z3.unsat:
-                self.status = "reachable"
-        except z3.Z3Exception:  # interrupted (`interrupt`) or out of resources: no answer
-            self.status = "unknown"
+    def start(self, timeout: float | None) -> None:
+        """Start solving in a child process (fork: no re-import, nothing to pickle but text)."""
+        receive, send = multiprocessing.get_context("fork").Pipe(duplex=False)
+        self._process = multiprocessing.get_context("fork").Process(target=_solve, args=(self.query, timeout, send),
+                                                                     daemon=True)
+        self._process.start()
+        send.close()
+        self._answer = receive
+
+    def wait(self, seconds: float | None) -> str:
+        """Wait up to `seconds` (None: until it answers or is killed) for the answer; returns the status
+        so far.  One thread waits; another may `kill` the child meanwhile."""
+        if self.status == "unknown" and self._answer is not None and self._answer.poll(seconds):
+            try:
+                self.status, self._invariant = self._answer.recv()
+            except EOFError:  # the child was killed, or died
+                self.status = "unknown"
+            self._answer.close()
+            self._answer = None
+            if self._process is not None:
+                self._process.join()
         return self.status
 
-    def invariant(self) -> z3.BoolRef:
-        """The invariant found, in the caller's context (call from the caller's thread, after `run`)."""
-        assert self._invariant is not None
-        return self._invariant.translate(z3.main_ctx())  # type: ignore[return-value]
+    def run(self, timeout: float | None) -> str:
+        """Solve and wait: "proved" (an invariant was found), "reachable", or "unknown"."""
+        self.start(timeout)
+        return self.wait(None if timeout is None else timeout + 5)
 
-    def interrupt(self) -> None:
-        """Stop `run` from another thread."""
-        self.ctx.interrupt()
+    def invariant(self) -> z3.BoolRef:
+        """The invariant found, over the template configuration and the constants."""
+        decls = {str(x): x for x in self.args}
+        return z3.And(z3.parse_smt2_string(f"(assert {self._invariant})", decls=decls))  # type: ignore[arg-type]
+
+    def kill(self) -> None:
+        """Stop the child, if it is still solving (its waiter then sees no answer)."""
+        if self._process is not None and self._process.is_alive():
+            self._process.kill()
 
 
 def confirmed(system: TransitionSystem, target: z3.BoolRef, invariant: z3.BoolRef, timeout: float = 10) -> bool:

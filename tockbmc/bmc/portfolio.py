@@ -1,10 +1,10 @@
-"""A portfolio, in the manner of Kind 2: BMC with k-induction, and Spacer's PDR beside it in a thread.
+"""A portfolio, in the manner of Kind 2: BMC with k-induction, and Spacer's PDR beside it in a process.
 
 BMC finds shortest counterexamples and k-induction proves what is inductive
 after a few steps; PDR proves what needs a stronger invariant (a whole module
-that never terminates).  Spacer runs in a Z3 context of its own, on the other
-core; once it has proved the target unreachable it interrupts BMC's solver call (and BMC asks
-between depths too).
+that never terminates).  Spacer runs in a process of its own, on the other
+core; once it has proved the target unreachable a watching thread interrupts BMC's solver call
+(and BMC asks between depths too).
 Whichever decides first decides; the other is stopped.  When BMC reaches its
 bound with nothing found, Spacer is given a little longer (as long as BMC took, between 1 s and `GRACE`) to turn
 "within the bound" into "for every length".  Every invariant is checked again
@@ -32,23 +32,26 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
         return bmc(system, target, bound, timeout, induction, fewest_visible)
     spacer = Spacer(system, goal)
     guard = Interruptible()
+    spacer.start(timeout)
 
-    def run() -> None:
-        if spacer.run(timeout) == "proved":
+    def watch() -> None:  # makes no Z3 call but the interrupt, which is meant for other threads
+        if spacer.wait(None) == "proved":
             guard.interrupt()  # BMC's solver call is moot now
 
-    thread = threading.Thread(target=run, name="spacer", daemon=True)
-    thread.start()
-    outcome = bmc(system, target, bound, timeout, induction, fewest_visible, stop=lambda: spacer.status == "proved",
-                  guard=guard)
-    if outcome.status in (Status.FOUND, Status.PROVED):
-        _stop(spacer, thread)
-        return outcome
-    took = time.monotonic() - start
-    grace = min(GRACE, max(1.0, took))
-    left = None if timeout is None else timeout - took
-    thread.join(grace if left is None else max(0.0, min(grace, left)))
-    _stop(spacer, thread)
+    watcher = threading.Thread(target=watch, name="spacer-watch", daemon=True)
+    watcher.start()
+    try:
+        outcome = bmc(system, target, bound, timeout, induction, fewest_visible,
+                      stop=lambda: spacer.status == "proved", guard=guard)
+        if outcome.status in (Status.FOUND, Status.PROVED):
+            return outcome
+        took = time.monotonic() - start
+        grace = min(GRACE, max(1.0, took))
+        left = None if timeout is None else timeout - took
+        watcher.join(grace if left is None else max(0.0, min(grace, left)))
+    finally:
+        spacer.kill()
+        watcher.join()
     if spacer.status == "proved":
         invariant = spacer.invariant()
         if confirmed(system, goal, invariant):
@@ -56,9 +59,3 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
                            "Spacer's PDR, checked again in a fresh solver)", method="invariant",
                            invariant=describe(system, invariant))
     return outcome
-
-
-def _stop(spacer: Spacer, thread: threading.Thread) -> None:
-    if thread.is_alive():
-        spacer.interrupt()
-        thread.join(5)

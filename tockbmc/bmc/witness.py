@@ -13,6 +13,7 @@ from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
+from tockbmc.model.config import declaration_key
 from tockbmc.model.result import TraceStep
 from tockbmc.properties.process import MonitorExtension
 
@@ -59,10 +60,11 @@ def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
     system = u.system
     out: dict[str, object] = {}
     for c, comp in enumerate(system.components):
-        for v in (*comp.machine.variables, *comp.machine.interface_variables):
+        inlined = [v for _, v in comp.automaton.extra_variables]
+        for v in (*comp.machine.variables, *comp.machine.interface_variables, *inlined):
             value = system.constants[c].get(id(v))
-            if value is not None:
-                out[v.name] = python_value(value, model, v.type)
+            if value is not None:  # keyed by declaration, as the configuration keys constants
+                out[declaration_key(v)] = python_value(value, model, v.type)
     for base, (t, initial, _c) in system.initial.items():
         if initial is None:
             out[base] = python_value(u.value_at(system.value(base, t), 0), model, t)

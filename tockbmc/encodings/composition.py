@@ -234,14 +234,14 @@ def of_module(m: ast.Module) -> Network:
                     if [a, b, conn.asynchronous].count(True) > 1:
                         raise Unsupported(conn.pos, "two asynchronous connections in series are not encoded yet")
                     f.link(p, q, a or b or conn.asynchronous, conn.pos)
+        # The platform is the environment: RoboTool joins its connections directly (a visible event of
+        # the module), `(_async)` or not; only connections between controllers get a buffer.
         elif dst is not None:  # platform → controller
             used.add((conn.target, conn.target_event.name))
-            f.expose(m.name, conn.source_event, dst[1].get(conn.target_event.name, []), True,
-                     conn.asynchronous, conn.pos)
+            f.expose(m.name, conn.source_event, dst[1].get(conn.target_event.name, []), True, False, conn.pos)
         elif src is not None:  # controller → platform
             used.add((conn.source, conn.source_event.name))
-            f.expose(m.name, conn.target_event, src[2].get(conn.source_event.name, []), False,
-                     conn.asynchronous, conn.pos)
+            f.expose(m.name, conn.target_event, src[2].get(conn.source_event.name, []), False, False, conn.pos)
     # Controller events the module leaves unconnected stay visible under the controller's name.
     for name, (c, ins, outs) in ends.items():
         for table, incoming in ((ins, True), (outs, False)):

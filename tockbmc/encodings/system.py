@@ -26,6 +26,7 @@ from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
 from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
 from tockbmc.model import ast
+from tockbmc.model.config import constant_setting
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
 
@@ -276,7 +277,9 @@ class TransitionSystem:
                     if key is not None and key in shared_consts:
                         consts[id(v)] = shared_consts[key]
                         continue
-                    consts[id(v)] = self._constant(v, decl, key or names.constant(comp.name, v.name))
+                    # an inlined operation's constant is its own: opB's x2 is not opC's x2
+                    own_name = names.constant(comp.name, f"{scope}().{v.name}" if scope else v.name)
+                    consts[id(v)] = self._constant(v, decl, key or own_name)
                     if key is not None:
                         shared_consts[key] = consts[id(v)]
                     continue
@@ -296,7 +299,7 @@ class TransitionSystem:
 
     def _constant(self, v: ast.Variable, decl: ast.Variable, name: str) -> Value:
         value = fresh(name, v.type)
-        given = self.settings.get(v.name)
+        given = constant_setting(self.settings, v, decl)  # keyed by declaration (model/config.py)
         expr = given if given is not None else decl.initial
         if expr is not None:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))

@@ -21,6 +21,7 @@ from typing import cast
 
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
 from tockbmc.model import ast
+from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
@@ -39,16 +40,18 @@ def ranges_dict(ranges: Ranges) -> dict[str, tuple[Fraction, Fraction]]:
 
 
 def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
-    """Constant values as Python values (literals and enumeration literals)."""
-    out: dict[str, object] = {}
-    for name, e in settings.items():
+    """Constant values as Python values (literals, enumeration literals, records of them)."""
+
+    def python(name: str, e: ast.Expr) -> object:
         if isinstance(e, ast.Literal):
-            out[name] = e.value
-        elif isinstance(e, ast.EnumLiteral):
-            out[name] = f"{e.enum.name}::{e.literal}"
-        else:
-            raise Unsupported(None, f"the value given to constant {name} is not a literal")
-    return out
+            return e.value
+        if isinstance(e, ast.EnumLiteral):
+            return f"{e.enum.name}::{e.literal}"
+        if isinstance(e, ast.RecordLiteral):
+            return {f: python(name, v) for f, v in e.fields}  # a Record once the interpreter coerces it
+        raise Unsupported(None, f"the value given to constant {name} is not a literal")
+
+    return {name: python(name, e) for name, e in settings.items()}
 
 
 @dataclass
@@ -233,18 +236,23 @@ def _literals(q: Query) -> dict[str, EnumValue]:
 
 def check_explicit(project: ast.Project, names: Iterable[str] | None, bound: int, ranges: Ranges,
                    settings: dict[str, ast.Expr], timeout: float | None,
-                   max_states: int = DEFAULT_MAX_STATES) -> list[Result]:
-    """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range."""
+                   max_states: int = DEFAULT_MAX_STATES, config: Configuration | None = None) -> list[Result]:
+    """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range.
+    Ranges and constants come from `config`, else from `ranges` and `settings` as `check` reads them."""
+    config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [_check(project, a, bound, ranges, settings, timeout, max_states)
-            for a in project.assertions if wanted is None or a.name in wanted]
+    return [_check(config.project, a, bound, config, timeout, max_states)
+            for a in config.project.assertions if wanted is None or a.name in wanted]
 
 
-def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, settings: dict[str, ast.Expr],
+def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
            timeout: float | None, max_states: int) -> Result:
     start = time.perf_counter()
     deadline = time.monotonic() + timeout if timeout is not None else None
     search: Search | None = None
+    described: dict[str, str] = config.ranges().describe()
+    constants: dict[str, str] = {}
+    sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
 
     def result(verdict: Verdict, reason: str, trace: tuple = ()) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
@@ -255,15 +263,16 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
         else:
             proof = Proof.NONE
         return Result(assertion=a.name, text=a.text, verdict=verdict,
-                      bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=ranges.describe(),
+                      bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=described,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
-                      engine="explicit", pos=str(a.pos), extra=extra)
+                      engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources)
 
     try:
         q = query(project, a)
-        consts = python_settings({**settings, **dict(q.settings),
-                                  **{s.constant: s.value for s in a.settings if s.kind == "constant"}})
-        interp = Interpreter(q.element, ranges_dict(ranges), consts, dict(q.defined))
+        setup = config.setup(a, q.element, q.settings)
+        described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
+        consts = python_settings(setup.constants)
+        interp = Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined))
         search = Search(interp, q, bound, max_states, deadline)
         if q.inclusion is not None and q.goals:  # equals: this direction first
             forward = _decide(a, q, search, result)

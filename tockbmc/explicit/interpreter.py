@@ -530,11 +530,12 @@ class Interpreter:
             if c.source == pname and c.target in cinfo:
                 used.add((c.target, "in", c.target_event.name))
                 entries = cinfo[c.target][1].get(c.target_event.name, [])
-                self._boundary_env(entries, f"{self.ename}::{c.source_event.name}", True, c.asynchronous, c.pos)
+                # The platform is the environment: RoboTool joins its connections directly, `(_async)` or not.
+                self._boundary_env(entries, f"{self.ename}::{c.source_event.name}", True, False, c.pos)
             elif c.source in cinfo and c.target == pname:
                 used.add((c.source, "out", c.source_event.name))
                 entries = cinfo[c.source][2].get(c.source_event.name, [])
-                self._boundary_env(entries, f"{self.ename}::{c.target_event.name}", False, c.asynchronous, c.pos)
+                self._boundary_env(entries, f"{self.ename}::{c.target_event.name}", False, False, c.pos)
             elif c.source in cinfo and c.target in cinfo:
                 used.add((c.source, "out", c.source_event.name))
                 used.add((c.target, "in", c.target_event.name))

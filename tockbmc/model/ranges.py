@@ -33,3 +33,8 @@ class Ranges:
 
 
 TYPE_RANGE_NAMES = {"int": "core_int", "nat": "core_nat", "real": "core_real"}
+
+
+def is_path(name: str) -> bool:
+    """A range name that is a path (`EXAX::move.time`) rather than a type (`core_int`, `Speed`)."""
+    return "::" in name or "." in name

@@ -89,11 +89,13 @@ class Result:
     depth: int | None = None  # how deep the search went: the trace's steps, the depth reached, or k of k-induction
     pos: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    constants: dict[str, str] = field(default_factory=dict)  # constant (owner::name) -> value, or "parameter (…)"
+    sources: dict[str, dict[str, str]] = field(default_factory=dict)  # "ranges"/"constants" -> name -> source
 
     def to_json(self) -> dict[str, Any]:
         return {
             "assertion": self.assertion, "text": self.text, "verdict": self.verdict.value,
-            "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "engine": self.engine,
+            "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "constants": self.constants, "sources": self.sources, "engine": self.engine,
             "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
             "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
                        "changed": s.changed, "source": s.source or None, "free_fields": list(s.free)}

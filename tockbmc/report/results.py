@@ -54,6 +54,17 @@ def _scope(r: Result) -> str:
     return f"bound {r.bound} steps; ranges: {ranges}"
 
 
+def configuration(r: Result) -> str:
+    """What a result was checked with, in one line: each range and constant with where it came from."""
+    ranges, constants = r.sources.get("ranges", {}), r.sources.get("constants", {})
+    parts = [f"{k}={v} [{ranges[k]}]" if k in ranges else f"{k}={v}" for k, v in r.ranges.items()]
+    line = "ranges: " + (", ".join(parts) or "none (unbounded data)")
+    if r.constants:
+        line += "; constants: " + ", ".join(f"{k}={v} [{constants[k]}]" if k in constants else f"{k}={v}"
+                                             for k, v in r.constants.items())
+    return line
+
+
 def print_results(results: list[Result], console: Console) -> None:
     table = Table(title="tockbmc results", title_justify="left")
     explicit = any("states" in r.extra for r in results)  # the paper's "complexity" columns
@@ -78,12 +89,13 @@ def print_results(results: list[Result], console: Console) -> None:
         head.append(f"   {r.text}", style="dim")
         console.print(head)
         if r.verdict == Verdict.HOLDS:
-            console.print(Text(f"  {r.reason or f'holds for every run of up to {r.bound} steps'}; "
-                               f"{_scope(r).split('; ')[1]}"))
+            console.print(Text(f"  {r.reason or f'holds for every run of up to {r.bound} steps'}"))
             if "invariant" in r.extra:
                 console.print(Text(f"  invariant: {r.extra['invariant'][:600]}", style="dim"))
         elif r.reason and not r.trace:
             console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == Verdict.UNSUPPORTED else "")))
+        if r.verdict != Verdict.UNSUPPORTED:
+            console.print(Text(f"  {configuration(r)}", style="dim"))
         if r.trace:
             print_trace(r, console)
 

@@ -1,0 +1,333 @@
+"""Where ranges and constants come from: RoboTool's instantiation, the command line, the defaults.
+
+One resolution (`tockbmc/model/config.py`) serves BMC and the interpreter: names given on the
+command line are resolved against the model (usage errors, with "did you mean", otherwise);
+`instantiations.csp` and `Instantiations` blocks are read as RoboTool reads them.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+from conftest import EXAMPLE, run_cli, write_files
+
+import tockbmc
+from tockbmc.check import check
+from tockbmc.model.config import ConfigError, configure
+from tockbmc.model.instantiation import read
+
+# A machine whose termination depends on its constant p, an enumeration constant, a function
+# without a body and a given type.
+RCT = """
+type Speed
+enumeration Mode { Slow Fast }
+datatype Pair { a : int  b : int }
+function sign(x : int) : int { }
+function idle(m : Mode) : nat { }
+stm M {
+  const p : int
+  const mode : Mode
+  const pair : Pair
+  const limit : nat = 3
+  var s : Speed
+  var x : int
+  event e : int
+  initial i
+  state w {}
+  final f
+  transition t0 { from i to w }
+  transition t1 { from w to f trigger e?x condition p == 1 /\\ sign(x) == 1 }
+}
+stm N {
+  const p : int
+  initial i
+  state w {}
+  transition t0 { from i to w }
+}
+"""
+ASSERTIONS = "assertion T: M does not terminate.\n"
+
+
+def project(tmp_path: Path, instantiations: str | None = None, where: str = "instantiations.csp",
+            assertions: str = ASSERTIONS) -> tockbmc.Project:
+    files = {"m.rct": RCT, "m.assertions": assertions}
+    if instantiations is not None:
+        (tmp_path / where).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / where).write_text(instantiations)
+    return tockbmc.load(write_files(tmp_path, files))
+
+
+def messages(config: object) -> list[str]:
+    return [f"{w.pos.line}: {w.message}" for w in config.warnings]  # type: ignore[attr-defined]
+
+
+# ---------------------------------------------------------------------------- reading the instantiation
+
+
+def test_instantiation_definitions_are_parsed_with_their_lines() -> None:
+    text = """-- generate nat
+nametype core_nat = {0..3}
+
+-- generate sign not
+sign(x) =
+  let
+    y = abs(x)
+  within
+    if y == 0 then 0 else x / y
+
+abs(n) = if n >= 0 then n else -n
+nametype core_int = union({ -2..2},{calc_type_min(Union({{0},{Plus(c, 1, core_nat)|c <- {0..2}}}))..calc_type_max(Union({{0}}))})
+aux(<g>^gs, m) = if g > m then aux(gs, g) else aux(gs, m)
+const_M_p = -1
+"""
+    inst = read(text, "i.csp", lambda line, column: tockbmc.model.ast.Pos("i.csp", line, column))
+    assert [(d.name, d.pos.line, d.nametype) for d in inst.definitions] == [
+        ("core_nat", 2, True), ("sign", 5, False), ("abs", 11, False), ("core_int", 12, True), ("aux", 13, False),
+        ("const_M_p", 14, False)]
+    assert not inst.problems
+
+
+def test_a_definition_outside_cspm_is_skipped_and_reported() -> None:
+    text = "const_M_p = 1\nbroken(x) = x +* 2\nnametype core_int = {0..1}\n"
+    inst = read(text, "i.csp", lambda line, column: tockbmc.model.ast.Pos("i.csp", line, column))
+    assert [d.name for d in inst.definitions] == ["const_M_p", "core_int"]
+    [problem] = inst.problems
+    assert problem.pos.line == 2 and problem.severity == "warning"
+
+
+def test_ranges_constants_and_functions_from_instantiations_csp(tmp_path: Path) -> None:
+    p = project(tmp_path, """nametype core_int = { -1..1}
+nametype core_nat = {0,1,2}
+nametype Speed = {0..4}
+const_M_p = 1
+const_M_mode = Mode_Fast
+const_M_pair = ((1, -1))
+sign(x) = if x > 0 then 1 else if x == 0 then 0 else -1
+idle(Mode_Slow) = 0
+idle(Mode_Fast) = 1
+""")
+    config = configure(p)
+    assert not config.warnings
+    assert config.ranges().describe() == {"core_int": "-1..1", "core_nat": "0..2", "Speed": "0..4"}
+    assert config.range_sources()["core_nat"] == f"instantiation {tmp_path / 'instantiations.csp'}:2"
+    [r] = check(p, bound=10, config=config)
+    assert r.constants == {"M::p": "1", "M::mode": "Mode::Fast", "M::pair": "(a=1, b=-1)", "M::limit": "3"}
+    assert r.sources["constants"]["M::p"].endswith("instantiations.csp:4")
+    assert r.sources["constants"]["M::limit"].startswith("model ")
+    # p == 1 and sign(x) == 1 for x = 1: M terminates, as FDR would find with this instantiation
+    assert r.verdict == "violated" and r.extra["replayed"] == "yes"
+    sign, idle = (next(f for f in config.project.functions if f.name == n) for n in ("sign", "idle"))
+    assert sign.definition is not None and not sign.preconditions
+    assert idle.definition is not None and len(idle.preconditions) == 1  # defined on both literals
+
+
+def test_unset_constants_take_robotools_default_values(tmp_path: Path) -> None:
+    p = project(tmp_path)
+    [r] = check(p, bound=10)
+    assert r.constants == {"M::p": "0", "M::mode": "Mode::Slow", "M::pair": "(a=0, b=0)", "M::limit": "3"}
+    assert set(r.sources["constants"].values()) == {"RoboTool default", f"model {tmp_path / 'm.rct'}:11"}
+    assert r.verdict == "holds"  # p == 0: the trigger's condition never holds
+
+
+def test_the_command_line_overrides_the_instantiation(tmp_path: Path) -> None:
+    p = project(tmp_path, "nametype core_int = {0..1}\nconst_M_p = 1\nsign(x) = 1\n")
+    [r] = check(p, bound=10)
+    assert r.verdict == "violated" and r.constants["M::p"] == "1"
+    config = configure(p, {"core_int": _range(-1, 0)}, {"M::p": "0"})
+    [r] = check(p, bound=10, config=config)
+    assert r.verdict == "holds"
+    assert r.ranges == {"core_int": "-1..0"} and r.sources["ranges"] == {"core_int": "--range"}
+    assert r.constants["M::p"] == "0" and r.sources["constants"]["M::p"] == "--set"
+    unbounded = configure(p, {"core_int": None})
+    assert unbounded.ranges().describe() == {}
+
+
+def test_the_explicit_engine_reads_the_same_configuration(tmp_path: Path) -> None:
+    from tockbmc.explicit.engine import check_explicit
+    from tockbmc.model.ranges import Ranges
+    p = project(tmp_path, "nametype core_int = {0..1}\nnametype Speed = {0..1}\nconst_M_p = 1\nsign(x) = 1\n")
+    [r] = check_explicit(p, None, 10, Ranges(), {}, 10)
+    assert r.verdict == "violated" and r.engine == "explicit"
+    assert r.constants["M::p"] == "1" and r.sources["constants"]["M::p"].endswith("instantiations.csp:3")
+    [r] = check_explicit(p, None, 10, Ranges(), {}, 10, config=configure(p, settings={"M::p": "0"}))
+    assert r.verdict == "holds"
+
+
+def test_the_file_in_csp_gen_is_read_when_the_root_has_none(tmp_path: Path) -> None:
+    p = project(tmp_path, "const_M_p = 1\nnametype core_int = {0..1}\n", where="csp-gen/instantiations.csp")
+    config = configure(p)
+    assert config.ranges().describe() == {"core_int": "0..1"}
+    [r] = check(p, bound=10, config=config)
+    assert r.constants["M::p"] == "1"
+
+
+def test_an_instantiations_block_overrides_the_file(tmp_path: Path) -> None:
+    block = "csp Instantiations csp-begin\nconst_M_p = 1\ncsp-end\n"
+    p = project(tmp_path, "const_M_p = 0\n", assertions=block + ASSERTIONS)
+    config = configure(p)
+    [r] = check(p, bound=10, config=config)
+    assert r.constants["M::p"] == "1" and r.sources["constants"]["M::p"].endswith("m.assertions:2")
+    assert any("also defined" in m for m in messages(config))
+
+
+def test_what_the_instantiation_cannot_give_is_reported_with_its_line(tmp_path: Path) -> None:
+    p = project(tmp_path, """nametype core_int = {0, 2, 5}
+nametype core_real = union({ -2..2},{calc_type_min(Union({{0}}))..calc_type_max(Union({{0}}))})
+const_M_q = 1
+const_M_mode = Mode_Medium
+sign(<x>) = x
+Plus(e1,e2,T) = if member(e1+e2,T) then e1+e2 else e1
+nametype core_string = LSeq(Char,2)
+const_M_limit = 4
+go_BOUND = 2
+mystery = 3
+""")
+    config = configure(p)
+    found = messages(config)
+    assert any(m.startswith("1: unsupported: a set of values with gaps") for m in found), found
+    assert any(m.startswith("2: unsupported: not an interval") for m in found), found
+    assert any(m.startswith("3: no constant of the model is named 'const_M_q'") and "did you mean 'const_M_p'" in m
+               for m in found), found
+    assert any(m.startswith("4: unsupported: expected a literal of Mode") for m in found), found
+    assert any(m.startswith("5: unsupported: a sequence") and "function sign stays uninterpreted" in m
+               for m in found), found
+    assert any(m.startswith("8: the model gives M::limit the value") for m in found), found
+    assert any(m.startswith("10: 'mystery' is not a constant, type or function") for m in found), found
+    assert len(found) == 7  # RoboTool's own helpers (Plus, core_string, *_BOUND) are not reported
+    assert config.ranges().describe() == {}
+    assert next(f for f in config.project.functions if f.name == "sign").definition is None
+
+
+# ---------------------------------------------------------------------------- names on the command line
+
+
+def test_constant_names_resolve_to_declarations(tmp_path: Path) -> None:
+    p = project(tmp_path)
+    config = configure(p, settings={"M::p": "1", "mode": "Fast", "N::p": "-2"})
+    [r] = check(p, bound=10, config=config)
+    assert r.constants["M::p"] == "1" and r.constants["M::mode"] == "Mode::Fast"
+    assert r.sources["constants"]["M::p"] == "--set"
+    with pytest.raises(ConfigError, match="'p' is ambiguous: it names M::p, N::p"):
+        configure(p, settings={"p": "1"})
+    with pytest.raises(ConfigError, match="'M' has no constant 'pp'; did you mean 'M::p'"):
+        configure(p, settings={"M::pp": "1"})
+    with pytest.raises(ConfigError, match="no element 'MM' to hold constant 'p'; did you mean 'M'"):
+        configure(p, settings={"MM::p": "1"})
+    with pytest.raises(ConfigError, match="no constant named 'mod'; did you mean 'mode'"):
+        configure(p, settings={"mod": "Fast"})
+
+
+@pytest.mark.parametrize("name, value, message", [
+    ("M::p", "0.5", "M::p is int: 0.5 is not an integer"),
+    ("M::limit", "-1", "M::limit is nat: -1 is negative"),
+    ("M::mode", "Fats", "no literal 'Fats'; did you mean 'Fast'"),
+    ("M::mode", "Colour::Fast", "no literal 'Colour::Fast'"),
+    ("M::p", "true", "M::p is int: 'true' is not a number"),
+    ("M::pair", "1", "M::pair is of type Pair: only numbers, booleans and enumeration literals"),
+    ("M::p", "1e999999999", "the exponent is too large"),
+    ("M::p", "9" * 100, "is too long for a number"),
+])
+def test_values_outside_their_type_are_rejected(tmp_path: Path, name: str, value: str, message: str) -> None:
+    p = project(tmp_path)
+    with pytest.raises(ConfigError, match=message):
+        configure(p, settings={name: value})
+
+
+def test_param_makes_a_constant_a_parameter(tmp_path: Path) -> None:
+    p = project(tmp_path, "sign(x) = 1\n")
+    [r] = check(p, bound=10, config=configure(p, {"core_int": _range(-1, 1)}, params=["M::p"]))
+    assert r.verdict == "violated" and r.constants["M::p"] == "parameter (-1..1)"
+    assert r.extra["replayed"] == "yes"
+    with pytest.raises(ConfigError, match="given a value with --set and made a parameter"):
+        configure(p, settings={"M::p": "1"}, params=["M::p"])
+    with pytest.raises(ConfigError, match="M::limit has a value in the model"):
+        configure(p, params=["M::limit"])
+
+
+def _range(low: int, high: int) -> tockbmc.model.ranges.Range:
+    from fractions import Fraction
+
+    from tockbmc.model.ranges import Range
+    return Range(Fraction(low), Fraction(high))
+
+
+@pytest.mark.parametrize("name, low, high, message", [
+    ("int", 0, 1, "no type 'int' to bound; did you mean 'core_int'"),
+    ("Mode", 0, 1, "'Mode' is an enumeration"),
+    ("core_nat", -1, 1, "bounds naturals: LO must be at least 0"),
+    ("core_int", 2, 1, "LO must not exceed HI"),
+    ("M::e.x", 0, 1, "'M::e' is of type int, which has no field 'x'"),
+    ("M::ee", 0, 1, "'M' has no event, variable or constant 'ee'.*did you mean 'e'"),
+    ("MM::e", 0, 1, "no element 'MM' in range path 'MM::e'; did you mean 'M'"),
+])
+def test_range_names_must_exist(tmp_path: Path, name: str, low: int, high: int, message: str) -> None:
+    p = project(tmp_path)
+    with pytest.raises(ConfigError, match=message):
+        configure(p, {name: _range(low, high)})
+
+
+# ---------------------------------------------------------------------------- the command line
+
+
+@pytest.mark.parametrize("args, text", [
+    (["--set", "UR::n_waypoint=1"], "did you mean 'UR::n_waypoints'"),
+    (["--set", "n_waypoints=1"], "'n_waypoints' is ambiguous: it names EXAX::n_waypoints, UR::n_waypoints"),
+    (["--set", "M::z=0"], "no element 'M' to hold constant 'z'"),
+    (["--set", "UR::n_waypoints=-1"], "UR::n_waypoints is nat: -1 is negative"),
+    (["--set", "UR::n_waypoints=0.5"], "is not an integer"),
+    (["--range", "EXAX::move.tme=0..2"], "'EXAX::move' has no field 'tme'; did you mean 'time'"),
+    (["--range", "core_nat=-1..2"], "bounds naturals"),
+    (["--range", "core_int=2..1"], "LO <= HI"),
+    (["--range", "core_itn=0..1"], "did you mean 'core_int'"),
+    (["--param", "UR::n_waypoint"], "did you mean 'UR::n_waypoints'"),
+])
+def test_usage_errors_exit_2_with_a_suggestion(args: list[str], text: str) -> None:
+    out = run_cli(["check", str(EXAMPLE), "-a", "A5", *args])
+    assert out.exit_code == 2 and out.crash is None, out.output
+    assert text in " ".join(out.output.split()), out.output
+
+
+@pytest.mark.parametrize("args", [["--range", "core_int=-1e999999999..1"], ["--set", "UR::n_waypoints=1e999999999"],
+                                  ["--range", "core_real=0..1e-999999999"]])
+def test_absurd_numbers_are_refused_at_once(args: list[str]) -> None:
+    start = time.perf_counter()
+    out = run_cli(["check", str(EXAMPLE), "-a", "A5", *args])
+    assert out.exit_code == 2 and "exponent is too large" in out.output, out.output
+    assert time.perf_counter() - start < 10
+
+
+def test_set_with_a_qualified_name_reaches_bmc_and_replay(tmp_path: Path) -> None:
+    """`--set EXAX::n_waypoints=2`: EXAX says `done` only after three moves.  BMC's counterexample has
+    the three moves, and the interpreter, reading the same value, replays it (BMC used to read
+    constants by bare name only, so a qualified `--set` reached the interpreter but not BMC)."""
+    write_files(tmp_path, {"iw.rct": (EXAMPLE / "intelliwelder.rct").read_text(),
+                           "d.assertions": "timed csp NoDone csp-begin\nNoDone = CHAOS(diff(Events, {| EXAX::done |}))"
+                                           "\ncsp-end\ntimed assertion D: EXAX refines NoDone in the traces model.\n"})
+    out = run_cli(["check", str(tmp_path), "-k", "20", "--range", "core_int=0..0", "--range", "core_real=0..0",
+                   "--set", "EXAX::n_waypoints=2", "--format", "json"])
+    assert out.exit_code == 10, out.output
+    [r] = json.loads(out.stdout)["results"]
+    assert r["replayed"] == "yes" and r["constants"] == {"EXAX::n_waypoints": "2"}
+    assert r["sources"]["constants"] == {"EXAX::n_waypoints": "--set"}
+    events = [s["event"] for s in r["trace"] if s["event"]]
+    assert sum(e.startswith("EXAX::move.in") for e in events) == 3 and events[-1] == "EXAX::done.out", events
+
+
+def test_instance_paths_name_the_machines_constants() -> None:
+    p = tockbmc.load(EXAMPLE)
+    for name in ("UR::n_waypoints", "main::ctrl::ur_ref::n_waypoints", "Controller::ur_ref::n_waypoints"):
+        config = configure(p, settings={name: "3"})
+        [r] = check(p, ["A6"], bound=3, config=config)
+        assert r.constants["UR::n_waypoints"] == "3" and r.sources["constants"]["UR::n_waypoints"] == "--set", name
+    with pytest.raises(ConfigError, match="no element 'ctrl::ur_ref'.*did you mean 'main::ctrl::ur_ref'"):
+        configure(p, settings={"ctrl::ur_ref::n_waypoints": "3"})
+
+
+def test_text_output_states_each_range_and_constant_with_its_source() -> None:
+    out = run_cli(["check", str(EXAMPLE), "-a", "A5", "-k", "12", "--range", "core_int=0..2", "--range",
+                   "core_real=-1..1"])
+    assert "ranges: core_int=0..2 [--range], core_real=-1..1 [--range]; constants: " \
+           "EXAX::n_waypoints=0 [RoboTool default]" in out.stdout, out.stdout

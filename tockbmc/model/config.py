@@ -1,0 +1,799 @@
+"""What a check runs with: the data ranges and the constants' values, each with where it came from.
+
+One resolution serves every engine.  Layers, lowest first:
+
+* defaults: for ranges, those the caller passes (`ROBOTOOL_RANGES` for RoboTool's); for a
+  constant the model leaves without a value, the default value of its type, as RoboTool
+  generates it (0, `true`, the first literal, a record of defaults);
+* the project's instantiation (`instantiations.csp`, or an `Instantiations` CSP block):
+  `nametype` intervals, `const_…` values, function bodies (`model/instantiation.py`);
+* the command line: `--range`, `--set`, `--param` (a constant made a parameter takes every
+  value of its type and range);
+* per assertion, the arguments of `M::D__(id, …)`, then the assertion's `with constant`.
+
+Every name a user gives is resolved against the model here, with "did you mean" for
+unknown names; a name or value that does not fit is a `ConfigError` (a usage error).
+Constants are keyed by their declaration (`owner::name`, see `declaration_key`), so that
+BMC and the interpreter read the same value for the same constant.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import defaultdict
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from fractions import Fraction
+
+from lark import Token, Tree
+
+from tockbmc.model import ast
+from tockbmc.model import instantiation as inst
+from tockbmc.model.diagnostics import Diagnostic, suggestion
+from tockbmc.model.ranges import Range, Ranges, is_path
+
+Element = ast.Behaviour | ast.Controller | ast.Module | ast.RoboticPlatform | ast.Interface
+Checked = ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef
+
+CORE_TYPES = {"core_int": ast.INT, "core_nat": ast.NAT, "core_real": ast.REAL}
+ROBOTOOL_RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range(Fraction(0), Fraction(2)),
+                          "core_real": Range(Fraction(-2), Fraction(2))})
+# RoboTool's own definitions in an instantiation, which tockbmc's semantics replaces: bounded
+# arithmetic (tockbmc's is exact, docs/semantics.md §6.5), strings, clocks (unbounded, §4.5).
+_ROBOTOOL_HELPERS = {"Plus", "Minus", "Mult", "Div", "Neg", "Modulus", "MinusNoNeg", "calc_type_min",
+                     "calc_type_max", "no_zero_div"}
+_IGNORED_TYPES = {"core_boolean", "core_string", "core_clock_type"}
+_NUMBER = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?")
+_RATIO = re.compile(r"[+-]?\d+/\d+")
+_MAX_NUMBER_TEXT = 64
+_MAX_EXPONENT = 64
+
+
+class ConfigError(ValueError):
+    """A name or value given for a check that does not fit the model (a usage error)."""
+
+    def __init__(self, message: str, option: str = "--set"):
+        super().__init__(message)
+        self.option = option
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a range or a constant's value comes from: `--range`, `instantiations.csp:12`, …"""
+
+    what: str
+    where: str | None = None
+
+    def __str__(self) -> str:
+        return f"{self.what} {self.where}" if self.where else self.what
+
+
+# How directly a value was given, weakest first (see `Configuration._bind_required`).
+_RANK = {"RoboTool default": 0, "model": 1, "instantiation": 2, "--set": 3, "--param": 3, "D__ argument": 4,
+         "with constant": 5}
+
+FLAG_RANGE = Source("--range")
+FLAG_SET = Source("--set")
+FLAG_PARAM = Source("--param")
+ROBOTOOL_DEFAULT = Source("RoboTool default")
+
+
+def _at(pos: ast.Pos) -> str:
+    return f"{pos.path}:{pos.line}"
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What one assertion is checked with."""
+
+    ranges: Ranges
+    constants: dict[str, ast.Expr]  # declaration key -> value; a parameter has none
+    described_ranges: dict[str, str]
+    described_constants: dict[str, str]
+    range_sources: dict[str, str]
+    constant_sources: dict[str, str]
+
+    @property
+    def sources(self) -> dict[str, dict[str, str]]:
+        return {"ranges": self.range_sources, "constants": self.constant_sources}
+
+
+def declaration_key(v: ast.Variable) -> str:
+    """A constant's identity across engines: the qualified name of its declaration."""
+    return f"{v.owner}::{v.name}"
+
+
+def constant_setting(settings: Mapping[str, ast.Expr], v: ast.Variable, shared: ast.Variable | None = None
+                     ) -> ast.Expr | None:
+    """The value a configuration gives a constant (`shared`: the declaration it is bound to)."""
+    for d in (shared, v):
+        if d is not None:
+            got = settings.get(declaration_key(d))
+            if got is not None:
+                return got
+    return None
+
+
+# ----------------------------------------------------------------------------- numbers and values
+
+
+def parse_number(text: str, option: str) -> Fraction:
+    """A decimal, `p/q` or exponent number; huge exponents and over-long numbers are refused at once."""
+    t = text.strip()
+    if len(t) > _MAX_NUMBER_TEXT:
+        raise ConfigError(f"'{text[:20]}…' is too long for a number", option)
+    if _RATIO.fullmatch(t):
+        num, den = t.split("/")
+        if int(den) == 0:
+            raise ConfigError(f"'{text}': division by zero", option)
+        return Fraction(int(num), int(den))
+    m = _NUMBER.fullmatch(t)
+    if m is None:
+        raise ConfigError(f"'{text}' is not a number", option)
+    if m.group(3) and abs(int(m.group(3)[1:])) > _MAX_EXPONENT:
+        raise ConfigError(f"'{text}': the exponent is too large (at most {_MAX_EXPONENT})", option)
+    return Fraction(t)
+
+
+def _num(x: Fraction) -> str:
+    return str(x.numerator) if x.denominator == 1 else str(x)
+
+
+def default_value(t: ast.Type, pos: ast.Pos) -> ast.Expr | None:
+    """RoboTool's default value of a type: 0, `true`, the first literal, a record of defaults."""
+    if t in ast.NUMERIC or isinstance(t, ast.GivenType):
+        return ast.Literal(ast.NAT if t != ast.REAL and not isinstance(t, ast.GivenType) else t, pos,
+                           Fraction(0) if t == ast.REAL else 0)
+    if t == ast.BOOLEAN:
+        return ast.Literal(ast.BOOLEAN, pos, True)
+    if isinstance(t, ast.EnumType) and t.literals:
+        return ast.EnumLiteral(t, pos, t, t.literals[0])
+    if isinstance(t, ast.RecordType):
+        fields = [(f.name, default_value(f.type, pos)) for f in t.fields]
+        if all(v is not None for _, v in fields):
+            return ast.RecordLiteral(t, pos, tuple((n, v) for n, v in fields if v is not None))
+    return None
+
+
+def describe_value(e: ast.Expr) -> str:
+    """A value as the report prints it."""
+    if isinstance(e, ast.Literal):
+        if isinstance(e.value, bool):
+            return "true" if e.value else "false"
+        if isinstance(e.value, Fraction):
+            return _num(e.value)
+        return str(e.value)
+    if isinstance(e, ast.EnumLiteral):
+        return f"{e.enum.name}::{e.literal}"
+    if isinstance(e, ast.RecordLiteral):
+        return "(" + ", ".join(f"{n}={describe_value(v)}" for n, v in e.fields) + ")"
+    if isinstance(e, ast.Unary) and e.op == "-":
+        return f"-{describe_value(e.operand)}"
+    return "an expression"
+
+
+def _value_of_text(text: str, t: ast.Type, name: str) -> ast.Expr:
+    pos = ast.Pos("<command line>", 1, 1)
+    if t == ast.BOOLEAN:
+        if text in ("true", "false"):
+            return ast.Literal(ast.BOOLEAN, pos, text == "true")
+        raise ConfigError(f"{name} is a boolean: '{text}' is not true or false")
+    if t in ast.NUMERIC or isinstance(t, ast.GivenType):
+        if text in ("true", "false"):
+            raise ConfigError(f"{name} is {t}: '{text}' is not a number")
+        try:
+            n = parse_number(text, "--set")
+        except ConfigError as exc:
+            raise ConfigError(f"{name}: {exc}") from None
+        if t != ast.REAL and n.denominator != 1:
+            raise ConfigError(f"{name} is {t}: {text} is not an integer")
+        if t == ast.NAT and n < 0:
+            raise ConfigError(f"{name} is nat: {text} is negative")
+        if t == ast.REAL:
+            return ast.Literal(ast.REAL, pos, n)
+        kind = t if isinstance(t, ast.GivenType) else (ast.NAT if n >= 0 else ast.INT)
+        return ast.Literal(kind, pos, int(n))
+    if isinstance(t, ast.EnumType):
+        short = text.rsplit("::", 1)[-1]
+        qualifier = text.rpartition("::")[0]
+        if short in t.literals and qualifier in ("", t.name, t.qname):
+            return ast.EnumLiteral(t, pos, t, short)
+        known = [f"{t.name}::{lit}" for lit in t.literals]
+        raise ConfigError(f"{name} is a {t.name}: no literal '{text}'{suggestion(text, known + list(t.literals))} "
+                          f"(literals: {', '.join(known)})")
+    raise ConfigError(f"{name} is of type {t}: only numbers, booleans and enumeration literals can be set here")
+
+
+# ----------------------------------------------------------------------------- the model's names
+
+
+def _walk(project: ast.Project) -> dict[str, list[Element]]:
+    """Every way to name an element: qualified and short names, and instance paths
+    (`main::ctrl::ur_ref`, `M::C::op_ref0`)."""
+    table: dict[str, list[Element]] = defaultdict(list)
+
+    def add(path: str, e: Element) -> None:
+        if not any(x is e for x in table[path]):
+            table[path].append(e)
+
+    def walk(e: Element, names: list[str], depth: int = 0) -> None:
+        qname = e.qname
+        for n in dict.fromkeys([*names, qname, qname.rsplit("::", 1)[-1]]):
+            add(n, e)
+        if depth > 8:
+            return
+        paths = list(dict.fromkeys([*names, qname]))
+        if isinstance(e, ast.Controller):
+            for mi in e.machines:
+                walk(mi.machine, [f"{p}::{mi.name}" for p in paths], depth + 1)
+            for oi in e.operations:
+                walk(oi.operation, [f"{p}::{oi.name}" for p in paths], depth + 1)
+        elif isinstance(e, ast.Module):
+            if e.platform is not None:
+                walk(e.platform, [f"{p}::{n}" for p in paths for n in {e.platform_name or e.platform.name,
+                                                                         e.platform.name}], depth + 1)
+            for ci in e.controllers:
+                walk(ci.controller, [f"{p}::{ci.name}" for p in paths], depth + 1)
+
+    for group in (project.interfaces, project.platforms, project.operations, project.machines, project.controllers,
+                  project.modules):
+        for e in group:
+            walk(e, [])
+    return dict(table)
+
+
+def _interface_constants(project: ast.Project, names: Iterable[str]) -> list[ast.Variable]:
+    by_name = {i.qname: i for i in project.interfaces}
+    by_short: dict[str, list[ast.Interface]] = defaultdict(list)
+    for i in project.interfaces:
+        by_short[i.name].append(i)
+    out: list[ast.Variable] = []
+    for n in names:
+        iface = by_name.get(n) or (by_short[n][0] if len(by_short.get(n, [])) == 1 else None)
+        if iface is not None:
+            out += [v for v in iface.variables if v.constant]
+    return out
+
+
+def constants_of(project: ast.Project, e: Element) -> list[ast.Variable]:
+    """The constants `with constant c of E` may name: E's own, its interfaces', its parts'."""
+    out: list[ast.Variable] = []
+    if isinstance(e, ast.Behaviour):
+        out += [v for v in (*e.variables, *e.interface_variables) if v.constant and v.kind != "parameter"]
+    elif isinstance(e, ast.Controller):
+        for mi in e.machines:
+            out += constants_of(project, mi.machine)
+        for oi in e.operations:
+            out += constants_of(project, oi.operation)
+        out += [v for v in e.variables if v.constant]
+        out += _interface_constants(project, (*e.required_interfaces, *e.provided_interfaces, *e.used_interfaces))
+    elif isinstance(e, ast.Module):
+        for ci in e.controllers:
+            out += constants_of(project, ci.controller)
+        if e.platform is not None:
+            out += constants_of(project, e.platform)
+    elif isinstance(e, ast.RoboticPlatform):
+        out += [v for v in e.variables if v.constant]
+        out += _interface_constants(project, e.provided_interfaces)
+    elif isinstance(e, ast.Interface):
+        out += [v for v in e.variables if v.constant]
+    return _unique(out)
+
+
+def _unique(vs: Iterable[ast.Variable]) -> list[ast.Variable]:
+    seen: dict[str, ast.Variable] = {}
+    for v in vs:
+        seen.setdefault(declaration_key(v), v)
+    return list(seen.values())
+
+
+@dataclass(frozen=True)
+class _Slot:
+    """A constant of a checked element with RoboTool's names for it, most specific first."""
+
+    variable: ast.Variable
+    names: tuple[str, ...]
+    in_operation: bool = False  # a constant a defined operation declares or requires
+
+
+def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
+    """The constants an element's `D__` takes, named as RoboTool's instantiation names them:
+    `const_` and the mangled path of the element that holds the constant, through instance names
+    (`const_main_Controller_stm_ref1_n`), or the definition's own (`const_EXAX_n`); generators
+    of different versions use one or the other, so both are accepted, the path first."""
+    out: list[_Slot] = []
+
+    def names(prefixes: list[str], v: ast.Variable) -> tuple[str, ...]:
+        return tuple(f"const_{p}_{v.name}" for p in dict.fromkeys(prefixes))
+
+    def behaviour(b: ast.Behaviour, prefixes: list[str]) -> None:
+        for v in constants_of(project, b):
+            out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef)))
+
+    def controller(c: ast.Controller, prefixes: list[str]) -> None:
+        ps = [*prefixes, inst.mangle(c.qname)]
+        own = [v for v in c.variables if v.constant]
+        own += _interface_constants(project, (*c.required_interfaces, *c.provided_interfaces, *c.used_interfaces))
+        for v in _unique(own):
+            out.append(_Slot(v, names(ps, v)))
+        for mi in c.machines:
+            behaviour(mi.machine, [f"{p}_{mi.name}" for p in dict.fromkeys(ps)])
+        for oi in c.operations:
+            behaviour(oi.operation, [f"{p}_{oi.name}" for p in dict.fromkeys(ps)])
+
+    if isinstance(element, ast.Behaviour):
+        behaviour(element, [])
+    elif isinstance(element, ast.Controller):
+        controller(element, [])
+    elif isinstance(element, ast.Module):
+        m = inst.mangle(element.qname)
+        if element.platform is not None:
+            p = element.platform
+            for v in constants_of(project, p):
+                out.append(_Slot(v, names([f"{m}_{element.platform_name or p.name}", inst.mangle(p.qname)], v)))
+        for ci in element.controllers:
+            controller(ci.controller, [f"{m}_{ci.name}"])
+    return out
+
+
+# ----------------------------------------------------------------------------- resolution of user names
+
+
+class Names:
+    """The model's names for `--set`, `--param` and `--range`, with suggestions."""
+
+    def __init__(self, project: ast.Project):
+        self.project = project
+        self.elements = _walk(project)
+        self.all_constants: list[tuple[str, ast.Variable]] = []  # (path::name, declaration)
+        for path, es in self.elements.items():
+            for e in es:
+                for v in constants_of(project, e):
+                    self.all_constants.append((f"{path}::{v.name}", v))
+        self.types: dict[str, ast.Type] = {}
+        for t in project.types:
+            if isinstance(t, (ast.GivenType, ast.EnumType, ast.RecordType)):
+                self.types.setdefault(t.qname, t)
+                self.types.setdefault(t.name, t)
+
+    def constant(self, name: str, option: str = "--set") -> list[ast.Variable]:
+        """The declarations a name denotes: `n` (when only one constant has that name), `UR::n`,
+        `main::ctrl::ur_ref::n`, `pkg::IConsts::z` …"""
+        if not name or name.startswith("::") or name.endswith("::"):
+            raise ConfigError(f"'{name}' is not a constant's name", option)
+        head, _, last = name.rpartition("::")
+        if not head:
+            found = _unique(v for _, v in self.all_constants if v.name == name)
+            if not found:
+                raise ConfigError(f"no constant named '{name}'{self._suggest(name)}", option)
+            if len(found) > 1:
+                options = ", ".join(sorted(declaration_key(v) for v in found))
+                raise ConfigError(f"'{name}' is ambiguous: it names {options}; qualify it", option)
+            return found
+        elements = self.elements.get(head)
+        if not elements:
+            raise ConfigError(f"no element '{head}' to hold constant '{last}'"
+                              f"{suggestion(head, list(self.elements))}", option)
+        found = _unique(v for e in elements for v in constants_of(self.project, e) if v.name == last)
+        if not found:
+            known = [f"{head}::{v.name}" for e in elements for v in constants_of(self.project, e)]
+            hint = suggestion(name, known) or self._suggest(name)
+            raise ConfigError(f"'{head}' has no constant '{last}'{hint}", option)
+        if len(found) > 1:
+            options = ", ".join(sorted(declaration_key(v) for v in found))
+            raise ConfigError(f"'{name}' is ambiguous: it names {options}; qualify it", option)
+        return found
+
+    def _suggest(self, name: str) -> str:
+        return suggestion(name, [p for p, _ in self.all_constants] + [v.name for _, v in self.all_constants])
+
+    def range_type(self, name: str) -> tuple[str, ast.Type]:
+        """A range name and what it bounds: `core_int`, a model type (by its short name, as the
+        engines key it), or a path `Machine::event.field` that must exist."""
+        if name in CORE_TYPES:
+            return name, CORE_TYPES[name]
+        if is_path(name):
+            return name, self._path_type(name)
+        t = self.types.get(name)
+        if t is None:
+            hint = f"; did you mean 'core_{name}'?" if name in ("int", "nat", "real") else \
+                suggestion(name, [*CORE_TYPES, *self.types])
+            raise ConfigError(f"no type '{name}' to bound{hint}", "--range")
+        if not isinstance(t, ast.GivenType):
+            kind = "an enumeration" if isinstance(t, ast.EnumType) else "a record type"
+            raise ConfigError(f"'{name}' is {kind}: ranges bound numbers (core_int, core_nat, core_real, "
+                              "types declared with 'type', or paths to numeric fields)", "--range")
+        return t.name, t
+
+    def _path_type(self, name: str) -> ast.Type:
+        head, _, fields = name.partition(".")
+        owner, _, member = head.rpartition("::")
+        elements = self.elements.get(owner) if owner else None
+        if not elements:
+            known = [p for p, es in self.elements.items() if any(isinstance(e, (ast.Behaviour, ast.Controller,
+                                                                               ast.Module)) for e in es)]
+            raise ConfigError(f"no element '{owner or head}' in range path '{name}'"
+                              f"{suggestion(owner or head, known)}", "--range")
+        members: dict[str, ast.Type | None] = {}
+        for e in elements:
+            members.update(_members(self.project, e))
+        if member not in members:
+            raise ConfigError(f"'{owner}' has no event, variable or constant '{member}' (range path '{name}')"
+                              f"{suggestion(member, list(members))}", "--range")
+        t = members[member]
+        if t is None:
+            raise ConfigError(f"'{head}' carries no value to bound", "--range")
+        walked = head
+        for f in [x for x in fields.split(".") if x] if fields else []:
+            if not isinstance(t, ast.RecordType):
+                raise ConfigError(f"'{walked}' is of type {t}, which has no field '{f}'", "--range")
+            ft = t.field_type(f)
+            if ft is None:
+                raise ConfigError(f"'{walked}' has no field '{f}'{suggestion(f, [x.name for x in t.fields])}",
+                                  "--range")
+            t, walked = ft, f"{walked}.{f}"
+        if isinstance(t, ast.RecordType):
+            raise ConfigError(f"'{name}' is a record; bound one of its fields "
+                              f"({', '.join(f'{name}.{x.name}' for x in t.fields)})", "--range")
+        if not (ast.is_numeric(t) or isinstance(t, ast.GivenType)):
+            raise ConfigError(f"'{name}' is of type {t}: ranges bound numbers", "--range")
+        return t
+
+
+def _members(project: ast.Project, e: Element) -> dict[str, ast.Type | None]:
+    out: dict[str, ast.Type | None] = {}
+    if isinstance(e, ast.Behaviour):
+        out.update({ev.name: ev.type for ev in e.events})
+        out.update({v.name: v.type for v in (*e.variables, *e.interface_variables)})
+    elif isinstance(e, ast.Controller):
+        out.update({ev.name: ev.type for ev in e.events})
+        out.update({v.name: v.type for v in e.variables})
+    elif isinstance(e, ast.Module):
+        if e.platform is not None:
+            out.update(_members(project, e.platform))
+        for c in e.connections:
+            out.setdefault(c.source_event.name, c.source_event.type)
+            out.setdefault(c.target_event.name, c.target_event.type)
+    elif isinstance(e, ast.RoboticPlatform):
+        out.update({ev.name: ev.type for ev in e.events})
+        out.update({v.name: v.type for v in e.variables})
+    return out
+
+
+def check_range(name: str, t: ast.Type, r: Range, option: str = "--range") -> None:
+    """A range fits what it bounds: integer bounds for integers, non-negative for naturals."""
+    if r.low > r.high:
+        raise ConfigError(f"'{name}={_num(r.low)}..{_num(r.high)}': LO must not exceed HI", option)
+    if t != ast.REAL and (r.low.denominator != 1 or r.high.denominator != 1):
+        raise ConfigError(f"'{name}' bounds {t} values: {_num(r.low)}..{_num(r.high)} are not integers", option)
+    if t == ast.NAT and r.low < 0:
+        raise ConfigError(f"'{name}' bounds naturals: LO must be at least 0, not {_num(r.low)}", option)
+
+
+# ----------------------------------------------------------------------------- the configuration
+
+
+@dataclass(frozen=True)
+class _RangeEntry:
+    range: Range | None  # None: unbounded
+    source: Source
+
+
+@dataclass(frozen=True)
+class _ConstEntry:
+    value: ast.Expr | None  # None: a parameter
+    source: Source
+
+
+class Configuration:
+    """Ranges and constant values for every check of a project (see the module's docstring).
+
+    `ranges` and `settings` are the command line's (`Range` or None for unbounded; an
+    `ast.Expr` or the text of a value), `params` the names made parameters; `default_ranges`
+    sit below the project's instantiation.  Raises `ConfigError` for a name or value that does
+    not fit the model.  `project` is the model with the instantiation's function bodies.
+    """
+
+    def __init__(self, project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
+                 settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
+                 default_ranges: Ranges | None = None, instantiation: bool = True):
+        self.names = Names(project)
+        self.warnings: list[Diagnostic] = []
+        self.texts: dict[str, str] = {}  # instantiation files read, for diagnostics
+        self._ranges: dict[str, _RangeEntry] = {}
+        for name, r in _range_items(default_ranges):
+            if r is not None:
+                self._ranges[name] = _RangeEntry(r, ROBOTOOL_DEFAULT)
+        self._instantiated: dict[str, tuple[ast.Expr, Source]] = {}
+        self._conflicted: set[str] = set()
+        self._positions: dict[str, ast.Pos] = {}
+        self.project = self._read_instantiation(project) if instantiation else project
+        self._flags: dict[str, _ConstEntry] = {}
+        for name, r in _range_items(ranges):
+            key, t = self.names.range_type(name)
+            if r is not None:
+                check_range(name, t, r)
+            self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
+        for name, given in (settings or {}).items():
+            for v in self.names.constant(name, "--set"):
+                value = _value_of_text(given, v.type, name) if isinstance(given, str) else given
+                if not isinstance(given, str) and not ast.assignable(v.type, value.type):
+                    raise ConfigError(f"{name} is {v.type}: the value given is {value.type}")
+                self._flags[declaration_key(v)] = _ConstEntry(value, FLAG_SET)
+        for name in params:
+            for v in self.names.constant(name, "--param"):
+                key = declaration_key(v)
+                if key in self._flags:
+                    raise ConfigError(f"{name} is given a value with --set and made a parameter with --param",
+                                      "--param")
+                if v.initial is not None:
+                    raise ConfigError(f"{name} has a value in the model ({v.initial.pos.path}:{v.initial.pos.line}); "
+                                      "--param is for constants the model leaves open", "--param")
+                self._flags[key] = _ConstEntry(None, FLAG_PARAM)
+        self._slots: dict[int, list[_Slot]] = {}
+
+    # --- ranges
+
+    def ranges(self) -> Ranges:
+        """The ranges every assertion is checked with."""
+        by_type = {k: e.range for k, e in self._ranges.items() if e.range is not None and not is_path(k)}
+        by_path = {k: e.range for k, e in self._ranges.items() if e.range is not None and is_path(k)}
+        return Ranges(by_type, by_path)
+
+    def range_sources(self) -> dict[str, str]:
+        return {k: str(e.source) for k, e in self._ranges.items() if e.range is not None}
+
+    # --- per assertion
+
+    def setup(self, a: ast.Assertion | None, element: Checked,
+              csp_arguments: Iterable[tuple[str, ast.Expr]] = ()) -> Setup:
+        """The ranges and constants an assertion on `element` is checked with.  `csp_arguments`:
+        the constants `M::D__(id, c1, …)` sets, by name (`properties.queries.Query.settings`)."""
+        slots = self._slots.get(id(element))
+        if slots is None:
+            slots = self._slots[id(element)] = robotool_slots(self.project, element)
+        declared: dict[str, ast.Variable] = {}
+        for s in slots:
+            declared.setdefault(declaration_key(s.variable), s.variable)
+        entries: dict[str, _ConstEntry] = {}
+        for key, v in declared.items():
+            if v.initial is not None:
+                entries[key] = _ConstEntry(v.initial, Source("model", _at(v.pos)))
+            else:
+                entries[key] = _ConstEntry(default_value(v.type, v.pos), ROBOTOOL_DEFAULT)
+        for key, (value, source) in self._from_instantiation(slots).items():
+            entries[key] = _ConstEntry(value, source)
+        for key, entry in self._flags.items():
+            if key in declared:
+                entries[key] = entry
+        for name, value in csp_arguments:
+            for key, v in declared.items():
+                if v.name == name:
+                    entries[key] = _ConstEntry(value, Source("D__ argument", _at(value.pos)))
+        for setting in a.settings if a is not None else ():
+            if setting.kind != "constant":
+                continue
+            for key in self._with_constant(setting, declared):
+                entries[key] = _ConstEntry(setting.value, Source("with constant", _at(setting.pos)))
+        self._bind_required(slots, declared, entries)
+        ranges = self.ranges()
+        constants = {k: e.value for k, e in entries.items()
+                     if e.value is not None and (declared[k].initial is None or e.source.what != "model")}
+        described = {k: describe_value(e.value) if e.value is not None else self._parameter(declared[k])
+                     for k, e in entries.items()}
+        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(),
+                     {k: str(e.source) for k, e in entries.items()})
+
+    @staticmethod
+    def _bind_required(slots: list[_Slot], declared: dict[str, ast.Variable], entries: dict[str, _ConstEntry]) -> None:
+        """A constant an operation requires (through an interface) is its caller's constant of that
+        name: it takes that constant's value, unless it was given one more directly."""
+        for key in dict.fromkeys(declaration_key(s.variable) for s in slots if s.in_operation):
+            v = declared[key]
+            if v.kind != "interface":
+                continue
+            providers = [k for k, w in declared.items()
+                         if w.name == v.name and w.kind != "interface" and ast.assignable(v.type, w.type)]
+            if len(providers) != 1:
+                continue
+            provider = entries[providers[0]]
+            if _RANK.get(provider.source.what, 0) >= _RANK.get(entries[key].source.what, 0):
+                entries[key] = _ConstEntry(provider.value, Source(f"as {providers[0]}:", str(provider.source)))
+
+    def _from_instantiation(self, slots: list[_Slot]) -> dict[str, tuple[ast.Expr, Source]]:
+        """The instantiation's value for each constant without one in the model: the first of
+        RoboTool's names for it that the instantiation defines (an instance's before the
+        definition's; the first instance's when two instances share the declaration)."""
+        out: dict[str, tuple[ast.Expr, Source]] = {}
+        for s in slots:
+            key = declaration_key(s.variable)
+            if s.variable.initial is not None or key in out:
+                continue
+            for n in s.names:
+                found = self._instantiated.get(n)
+                if found is not None and ast.assignable(s.variable.type, found[0].type):
+                    out[key] = found
+                    break
+        return out
+
+    def _conflicts(self, slots: list[_Slot]) -> None:
+        """Warn where two instances of one declaration get different values: tockbmc gives a
+        constant one value per declaration."""
+        found: dict[str, dict[str, str]] = defaultdict(dict)  # key -> value -> RoboTool name
+        for s in slots:
+            for n in s.names:
+                got = self._instantiated.get(n)
+                if got is not None:
+                    found[declaration_key(s.variable)].setdefault(describe_value(got[0]), n)
+                    break
+        for key, values in found.items():
+            if len(values) > 1 and key not in self._conflicted:
+                self._conflicted.add(key)
+                names = [f"{n} = {v}" for v, n in values.items()]
+                self._warn(self._positions[next(iter(values.values()))],
+                           f"instances of {key} get different values ({', '.join(names)}); tockbmc gives a "
+                           "constant one value, the first instance's")
+
+    def _parameter(self, v: ast.Variable) -> str:
+        r = self.ranges()
+        t = v.type
+        name = {"int": "core_int", "nat": "core_nat", "real": "core_real"}.get(t.name, t.name)
+        bound = r.by_path.get(declaration_key(v)) or r.by_type.get(name)
+        return f"parameter ({bound if bound is not None else 'unbounded'})"
+
+    def _with_constant(self, s: ast.ConstantSetting, declared: dict[str, ast.Variable]) -> list[str]:
+        found = [declaration_key(v) for e in self.names.elements.get(s.element, [])
+                 for v in constants_of(self.project, e) if v.name == s.constant]
+        keys = [k for k in found if k in declared]
+        return keys or [k for k, v in declared.items() if v.name == s.constant]
+
+    # --- the instantiation
+
+    def _read_instantiation(self, project: ast.Project) -> ast.Project:
+        read: list[inst.Instantiation] = []
+        path = inst.project_file(project.root)
+        if path is not None:
+            try:
+                found, text = inst.read_file(path)
+            except OSError as exc:
+                self.warnings.append(Diagnostic(ast.Pos(str(path), 1, 1), f"cannot read: {exc}", "warning"))
+            else:
+                read.append(found)
+                self.texts[str(path)] = text
+        read += [inst.read_block(b) for b in project.csp_blocks if inst.is_instantiation_block(b)]
+        clauses: dict[str, list[inst.Definition]] = {}
+        for i in read:
+            self.warnings += i.problems
+            own: dict[str, list[inst.Definition]] = defaultdict(list)
+            for d in i.definitions:
+                own[d.name].append(d)
+            for name, ds in own.items():
+                if name in clauses:
+                    first = clauses[name][0]
+                    self.warnings.append(Diagnostic(ds[0].pos, f"'{name}' is also defined at {_at(first.pos)}; "
+                                                    "this definition is the one used", "warning"))
+                clauses[name] = ds
+        return self._interpret(project, clauses)
+
+    def _interpret(self, project: ast.Project, clauses: dict[str, list[inst.Definition]]) -> ast.Project:
+        slots_by_name: dict[str, list[ast.Variable]] = defaultdict(list)
+        elements: list[Checked] = [*project.machines, *project.operations, *project.controllers, *project.modules]
+        for e in elements:
+            for s in robotool_slots(project, e):
+                for n in s.names:
+                    if not any(v is s.variable for v in slots_by_name[n]):
+                        slots_by_name[n].append(s.variable)
+        functions: dict[str, ast.Function] = {}
+        for f in project.functions:
+            functions.setdefault(inst.mangle(f.qname), f)
+        types: dict[str, ast.Type] = {}
+        for t in project.types:
+            if isinstance(t, (ast.GivenType, ast.EnumType, ast.RecordType)):
+                types.setdefault(inst.mangle(t.qname), t)
+                types.setdefault(t.name, t)
+        enums = [t for t in project.types if isinstance(t, ast.EnumType)]
+        referenced = _referenced(clauses)
+        helpers = {n: ds for n, ds in clauses.items() if n not in functions}
+        body = inst.FunctionBody(functions, helpers, enums)
+        defined: dict[int, ast.Function] = {}
+        for name, ds in clauses.items():
+            d = ds[-1]
+            try:
+                if d.nametype:
+                    self._nametype(name, d, types)
+                elif name in slots_by_name:
+                    self._constant(name, d, slots_by_name[name])
+                elif name in functions:
+                    f = functions[name]
+                    if f.definition is not None:
+                        self._warn(d.pos, f"the model defines {f.name} (postcondition result == …); this body "
+                                          "is not used")
+                    else:
+                        defined[id(f)] = body.define(f, ds)
+                elif name.startswith("const_"):
+                    self._warn(d.pos, f"no constant of the model is named '{name}' by RoboTool"
+                                      f"{suggestion(name, list(slots_by_name))}; it is not used")
+                elif name in _ROBOTOOL_HELPERS or name.endswith("_BOUND") or name in referenced:
+                    continue
+                else:
+                    known = [*functions, *types, *CORE_TYPES]
+                    self._warn(d.pos, f"'{name}' is not a constant, type or function of the model"
+                                      f"{suggestion(name, known)}; it is not used")
+            except inst.NotUnderstood as exc:
+                if name in functions:
+                    self._warn(exc.pos, f"unsupported: {exc.what}; function {functions[name].name} stays "
+                                        "uninterpreted (docs/semantics.md §6.4)")
+                else:
+                    self._warn(exc.pos, f"unsupported: {exc.what}; '{name}' is not used")
+        for e in elements:
+            self._conflicts(robotool_slots(project, e))
+        return inst.with_functions(project, defined)
+
+    def _warn(self, pos: ast.Pos, message: str) -> None:
+        self.warnings.append(Diagnostic(pos, message, "warning"))
+
+    def _nametype(self, name: str, d: inst.Definition, types: dict[str, ast.Type]) -> None:
+        if name in _IGNORED_TYPES:
+            return
+        t = CORE_TYPES.get(name) or types.get(name)
+        if t is None:
+            self._warn(d.pos, f"no type '{name}' in the model{suggestion(name, [*CORE_TYPES, *types])}; "
+                              "this range is not used")
+            return
+        if not (t in ast.NUMERIC or isinstance(t, ast.GivenType)):
+            raise inst.NotUnderstood(d.pos, f"'{name}' is not a numeric type or a type declared with 'type'")
+        low, high = inst.interval(d, d.body)
+        key = name if name in CORE_TYPES else t.name
+        r = Range(low, high)
+        try:
+            check_range(name, t, r)
+        except ConfigError as exc:
+            raise inst.NotUnderstood(d.at(d.body), str(exc)) from None
+        self._ranges[key] = _RangeEntry(r, Source("instantiation", _at(d.pos)))
+
+    def _constant(self, name: str, d: inst.Definition, variables: list[ast.Variable]) -> None:
+        if d.params is not None:
+            raise inst.NotUnderstood(d.pos, f"'{name}' is a constant; it takes no arguments")
+        given = [v for v in variables if v.initial is not None]
+        if given and len(given) == len(variables):
+            v = given[0]
+            self._warn(d.pos, f"the model gives {declaration_key(v)} the value it has "
+                              f"({_at(v.initial.pos) if v.initial is not None else ''}); '{name}' is not used")
+            return
+        values = []
+        for t in dict.fromkeys(v.type for v in variables):
+            values.append(inst.value(d, d.body, t))
+        self._instantiated[name] = (values[0], Source("instantiation", _at(d.pos)))
+        self._positions[name] = d.pos
+
+
+def _range_items(ranges: Ranges | Mapping[str, Range | None] | None) -> list[tuple[str, Range | None]]:
+    if ranges is None:
+        return []
+    if isinstance(ranges, Ranges):
+        return [*ranges.by_type.items(), *ranges.by_path.items()]
+    return list(ranges.items())
+
+
+def _referenced(clauses: dict[str, list[inst.Definition]]) -> set[str]:
+    """Names used in the bodies of the definitions (helpers such as `abs` are used this way)."""
+    out: set[str] = set()
+    for ds in clauses.values():
+        for d in ds:
+            nodes = [d.body, *(d.params or ())]
+            while nodes:
+                n = nodes.pop()
+                if isinstance(n, Token):
+                    if n.type == "NAME":
+                        out.add(str(n))
+                elif isinstance(n, Tree):
+                    nodes += n.children
+    return out
+
+
+def configure(project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
+              settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
+              default_ranges: Ranges | None = None, instantiation: bool = True) -> Configuration:
+    """The configuration of a project's checks (see `Configuration`)."""
+    return Configuration(project, ranges, settings, params, default_ranges, instantiation)
+
