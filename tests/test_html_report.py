@@ -186,7 +186,7 @@ def test_diagram_reads_who_sends_to_whom() -> None:
     assert [(r.step, r.states) for r in d.rows if r.states] == [
         (1, (("A", "s0"), ("B", "u0"))), (2, (("A", "s1"),)), (3, (("B", "u1"),)), (6, (("B", "u2"),)),
         (9, (("A", "f"), ("B", "f")))]
-    assert [(r.step, r.notes) for r in d.rows if r.notes] == [(1, (("A", "s0"),)), (7, (("B", "y := …"),))]
+    assert [(r.step, r.notes) for r in d.rows if r.notes] == [(1, (("A", "s0"),)), (7, (("B", "y := 2"),))]  # the value from `changed`
 
 
 def test_diagram_reads_the_interpreters_notes_and_bare_traces() -> None:

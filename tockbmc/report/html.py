@@ -46,12 +46,14 @@ class Section:
 
 
 def _steps(trace: Sequence[TraceStep]) -> tuple[StepRow, ...]:
+    """The step table: of the states, those entered at each step, and all of them at the first and the last."""
     rows = []
     before: dict[str, str] = {}
     time = 0
-    for s in trace:
+    for i, s in enumerate(trace):
         time += s.kind == "tock"
-        states = tuple((m, st, before.get(m) != st) for m, st in s.states.items())
+        every = i in (0, len(trace) - 1)
+        states = tuple((m, st, before.get(m) != st) for m, st in s.states.items() if every or before.get(m) != st)
         before = {**before, **s.states}
         event = s.event if s.kind != "internal" and s.event is not None else s.note
         rows.append(StepRow(s.step, s.kind, event or "", states, tuple(s.changed.items()),

@@ -26,6 +26,7 @@ _EVENT = re.compile(r"(?P<channel>[A-Za-z_]\w*(?:::[A-Za-z_]\w*)*)(?:\.(?P<direc
 # Notes of internal steps: BMC's "A sends e, B: transition t" and the interpreter's "A.e to B.f (v)".
 _SENDS = re.compile(r"(?:^|, )(?P<sender>\w+) sends (?P<event>\w+)")
 _WHO = re.compile(r"(?:^|, )(?P<who>\w+): (?P<what>.*?)(?=, \w+(?::| sends )|$)")
+_ASSIGNED = re.compile(r"(?P<variable>[\w.]+) := …")  # BMC's note of an assignment; the value is in `changed`
 _LINK = re.compile(r"^(?P<sender>\w+)\.(?P<event>\w+) to (?P<receiver>\w+)\.\w+(?: \((?P<value>.*)\))?$")
 
 
@@ -101,6 +102,7 @@ def diagram(trace: Sequence[TraceStep]) -> Diagram:
             rows.append(Row(s.step, "tock", time=time, states=states))
         elif s.kind == "internal" or s.event is None:
             message, notes = _internal(s.note, machines)
+            notes = tuple((m, _with_values(what, s.changed)) for m, what in notes)
             rows.append(Row(s.step, "internal", message, notes=notes, states=states))
         else:
             rows.append(Row(s.step, "event", _event(s, machines, states), states=states))
@@ -132,6 +134,15 @@ def _event(s: TraceStep, machines: Sequence[str], changed: tuple[tuple[str, str]
     if channel.rpartition("::")[2] == "terminate":
         return Message(machine, ENVIRONMENT, label, "terminate")
     return Message(ENVIRONMENT, machine, label, "event")
+
+
+def _with_values(note: str, changed: dict[str, str]) -> str:
+    """Each `x := …` of a note with the value the step gave x (when exactly one changed variable is x)."""
+    def value(assigned: re.Match[str]) -> str:
+        name = assigned["variable"]
+        values = [v for k, v in changed.items() if k == name or k.endswith("." + name)]
+        return f"{name} := {values[0]}" if len(values) == 1 else assigned[0]
+    return _ASSIGNED.sub(value, note)
 
 
 def _internal(note: str, machines: Sequence[str]) -> tuple[Message | None, tuple[tuple[str, str], ...]]:

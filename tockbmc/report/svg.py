@@ -22,6 +22,7 @@ GUTTER = 44  # the step numbers' column
 MARGIN = 16
 TOCK_LABEL = 100  # right of the last lifeline: "tock  t=12"
 HEAD = 30  # height of a lifeline's name box
+TAB = 24  # height of the tab with the frame's name
 BOX = 22  # height of a state box
 ARROW = 8  # arrowhead length
 MIN_GAP = 120
@@ -145,33 +146,36 @@ def _fmt(v: object) -> str:
 def render(d: Diagram, title: str = "") -> ET.Element:
     """The diagram as an `<svg>` element."""
     lay = layout(d)
-    rows_height = sum(_row_height(r) for r in d.rows)
-    top = MARGIN + HEAD + 12
-    height = top + rows_height + MARGIN
+    head = float(MARGIN + (TAB if lay.frame is not None and d.element else 0))  # the frame's name tab above
+    top = head + HEAD + 12
+    height = top + sum(_row_height(r) for r in d.rows) + MARGIN
     # No xmlns: the SVG lives inside HTML, where the parser puts it in the SVG namespace itself.
     svg = ET.Element("svg", {"class": "sequence", "role": "img",
-                             "width": _fmt(lay.width), "height": _fmt(float(height)),
-                             "viewBox": f"0 0 {_fmt(lay.width)} {_fmt(float(height))}",
+                             "width": _fmt(lay.width), "height": _fmt(height),
+                             "viewBox": f"0 0 {_fmt(lay.width)} {_fmt(height)}",
                              "font-family": "DejaVu Sans Mono, Menlo, Consolas, monospace",
                              "font-size": str(FONT)})
     if title:
         _el(svg, "title", title)
-    if lay.frame is not None:
+    if lay.frame is not None:  # UML's frame: the element's name in a tab at its top left
         left, right = lay.frame
         _el(svg, "rect", class_="frame", x=left, y=float(MARGIN - 6), width=right - left,
-            height=float(height - MARGIN), rx=6, fill="#f6f8fb", stroke="#8a9bb3", stroke_dasharray="6 4")
-        _el(svg, "text", d.element, class_="frame-label", x=left + 6, y=float(height - 6), fill="#5b6b82",
-            font_weight="bold")
+            height=height - 2 * MARGIN + 12, rx=6, fill="#f6f8fb", stroke="#8a9bb3", stroke_dasharray="6 4")
+        if d.element:
+            w = text_width(d.element) + 16
+            _el(svg, "path", class_="frame-tab", d=f"M {_fmt(left)} {MARGIN - 6} h {_fmt(w)} v {TAB - 6} "
+                                                   f"l -6 6 h {_fmt(-w + 6)} z", fill="#dfe6ef", stroke="#8a9bb3")
+            _el(svg, "text", d.element, class_="frame-label", x=left + 8, y=float(MARGIN + TAB / 2 - 1),
+                fill="#3b4a5e", font_weight="bold")
     for name in d.lifelines:
         x = lay.x[name]
         kind = "machine" if name in d.machines else "environment" if name == ENVIRONMENT else "platform"
         g = _el(svg, "g", class_=f"lifeline {kind}", data_name=name)
-        _el(g, "line", x1=x, y1=float(MARGIN + HEAD), x2=x, y2=float(height - MARGIN), stroke="#9aa5b1",
-            stroke_dasharray="4 4")
+        _el(g, "line", x1=x, y1=head + HEAD, x2=x, y2=height - MARGIN, stroke="#9aa5b1", stroke_dasharray="4 4")
         w = _box_width(name)
-        _el(g, "rect", x=x - w / 2, y=float(MARGIN), width=w, height=float(HEAD), rx=4,
+        _el(g, "rect", x=x - w / 2, y=head, width=w, height=float(HEAD), rx=4,
             fill="#ffffff" if kind == "machine" else "#eef1f4", stroke="#34495e")
-        _el(g, "text", name, x=x, y=float(MARGIN + HEAD / 2 + 4), text_anchor="middle", font_weight="bold")
+        _el(g, "text", name, x=x, y=head + HEAD / 2 + 4, text_anchor="middle", font_weight="bold")
     y = float(top)
     for r in d.rows:
         _draw_row(svg, d, lay, r, y)
