@@ -101,7 +101,7 @@ def render_report(results: Sequence[Result], *, title: str, version: str) -> str
     counts = {k: n for k, n in summary(results).items() if n}
     return env.get_template("report.html").render(
         title=title, version=version, bound=bound, ranges=ranges, engine=engine, counts=counts,
-        sections=sections(results), Verdict=Verdict)
+        sections=sections(results), explicit=any("states" in r.extra for r in results))
 
 
 def write_report(path: str | Path, results: Sequence[Result], *, title: str, version: str) -> None:
