@@ -256,3 +256,21 @@ def test_model_text_is_escaped() -> None:
     dom = parse(text)
     assert not list(dom.iter("script"))
     assert nasty in dom.all_text()  # shown as text, not markup
+
+
+@dataclass(frozen=True)
+class _SourcedStep(TraceStep):
+    source: str = ""  # as `TraceStep` has it where steps know their model text
+
+
+def test_step_table_shows_the_source_when_there_is_one() -> None:
+    def page(steps: tuple[TraceStep, ...]) -> Node:
+        result = Result(assertion="A", text="t", verdict=Verdict.VIOLATED, bound=5, ranges={}, seconds=0.1,
+                        reason="r", trace=steps, proof=Proof.TRACE)
+        return parse(render_report([result], title="m", version="0"))
+
+    sourced = _SourcedStep(1, "M::e.in", "event", "t1", {"M": "s"}, {}, ("M::e", "in"), source="/models/m.rct:3:5")
+    cells = [td for td in page((sourced,)).iter("td") if "source" in td.classes()]
+    assert [(td.all_text(), td.attrs["title"]) for td in cells] == [("m.rct:3:5", "/models/m.rct:3:5")]
+    plain = page((_step(1, "event", "M::e.in", "t1", {"M": "s"}, {}, ("M::e", "in")),))
+    assert "Source" not in [th.all_text() for th in plain.iter("th")]

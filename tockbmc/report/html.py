@@ -31,8 +31,13 @@ class StepRow:
     event: str  # the event, or the note of an internal step
     states: tuple[tuple[str, str, bool], ...]  # (machine, state, entered at this step)
     changed: tuple[tuple[str, str], ...]
-    source: str
+    source: str  # "path:line:col" of the model text behind the step, or ""
     time: int | None  # for a tock: the time after it
+
+    @property
+    def source_short(self) -> str:
+        """The source without the file's directories ("file.rct:12:5"), for a narrow column."""
+        return self.source.replace("\\", "/").rpartition("/")[2]
 
 
 @dataclass(frozen=True)
