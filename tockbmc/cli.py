@@ -148,9 +148,12 @@ def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[
 @click.option("--core", is_flag=True, help="Also check RoboTool's core assertions of every machine, controller and "
                                            "module (deadlock-free, deterministic, divergence-free, timelock-free); "
                                            "a model without assertions gets them anyway.")
+@click.option("--report", "report_path", type=click.Path(dir_okay=False, writable=True), default=None,
+              metavar="FILE.html", help="Also write the results as one self-contained HTML page: the verdict table, "
+                                        "the scope, and each trace as a sequence diagram beside its steps.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
           set_specs: tuple[str, ...], param_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str,
-          max_states: int, shortest: str, core: bool) -> None:
+          max_states: int, shortest: str, core: bool, report_path: str | None) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -179,6 +182,9 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
         results = run_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config)
+    if report_path is not None:
+        from tockbmc.report.html import write_report
+        write_report(report_path, results, title=" ".join(paths), version=__version__)
     try:
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
