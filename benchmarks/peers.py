@@ -1,6 +1,6 @@
 """Spin beside tockbmc on the UR machine of the IntelliWelder example: A3 and A6.
 
-Run: python benchmarks/peers.py [--spin-timeout 60] [--spin-memory-mb 2048] [--rows 0 1 2 ...]
+Run: python benchmarks/peers.py [--spin-timeout 120] [--spin-memory-mb 3072] [--rows 0 1 2 ...]
      python benchmarks/peers.py --promela-only [--joints 2|6] [--dist 5] [--time 0..10] [--assertion A3]
 
 For each row (joints, distance range, time range) the script writes the UR machine as a Promela
@@ -58,15 +58,18 @@ What differs from tockbmc's check, beyond the engine:
     interval (and no --range at all is every real). n_waypoints: Spin 0..3, tockbmc every value.
   - Bound: Spin explores every reachable state; tockbmc searches runs of up to 40 steps and proves
     "holds" for every length by k-induction (its verdict says so: "holds (k-ind.)").
-  - tock: Spin interleaves `tock` as an event of the one process, as tock-CSP does; tockbmc's monitor
-    follows the same traces. The two models agree on the events each configuration offers, but
-    Spin's internal steps are fused into the atomic step of the event before them, so its state
-    counts are not RoboTool's or FDR's.
+  - Time: in both, `tock` is one step of the machine, refused while internal steps are pending, at
+    a call and after termination, and it counts towards nothing else (UR has no clocks). tockbmc
+    takes each internal step as a step of its own (they count towards its bound of 40); Spin runs
+    them inside the atomic step of the event before them, so the two see the same traces (events
+    and tocks in order) through different configurations, and Spin's state counts are not
+    RoboTool's or FDR's either. Spin keeps no clock and no count of tocks: a trace with any
+    number of tocks in a waiting place is one state.
 
 Times are wall-clock seconds of the whole tool: Spin is `spin -a` + `gcc` + `./pan` (the search
 alone in brackets), tockbmc the `tockbmc check` process (start-up and load included; its own check
-time in brackets). Memory: Spin's reported "total actual memory usage" / the peak RSS of `pan`;
-tockbmc's peak RSS. Spin runs under `-DMEMLIM` (and `ulimit -v` a little above it) and a
+time in brackets). Memory: Spin's reported "total actual memory usage" (128 MB of it pan's default
+hash table, -w24) / the peak RSS of `pan`; tockbmc's peak RSS. Spin runs under `-DMEMLIM` (and `ulimit -v` a little above it) and a
 time limit, and is reported as "out of memory" or "timeout" where it gives up, with the states it
 had stored by then.
 """
@@ -584,6 +587,8 @@ def spin(text: str, timeout: float, memory_mb: int) -> SpinResult:
         verdict = "holds"
     else:
         verdict = "error"
+    if verdict not in ("holds", "violated"):
+        nominal = None  # the count of a search cut short means little
     return SpinResult(verdict, compile_seconds + run.seconds, run.seconds,
                       float(reported[1]) if reported else None, run.peak_mb, states, nominal)
 
@@ -652,8 +657,8 @@ def main() -> None:
     parser.add_argument("--assertion", choices=["A3", "A6"], default="A3")
     parser.add_argument("--waypoints", type=int, default=3, help="n_waypoints ranges over 0..N in Spin")
     parser.add_argument("--rows", type=int, nargs="+", help=f"which rows (0..{len(ROWS) - 1}; default all)")
-    parser.add_argument("--spin-timeout", type=float, default=60.0, help="seconds per Spin search")
-    parser.add_argument("--spin-memory-mb", type=int, default=2048, help="pan's -DMEMLIM")
+    parser.add_argument("--spin-timeout", type=float, default=120.0, help="seconds per Spin search")
+    parser.add_argument("--spin-memory-mb", type=int, default=3072, help="pan's -DMEMLIM")
     parser.add_argument("--tockbmc-timeout", type=float, default=300.0)
     args = parser.parse_args()
     if args.promela_only:
