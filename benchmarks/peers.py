@@ -118,9 +118,11 @@ class Monitor:
     terminate_violates: bool = False
 
     def declarations(self) -> Code:
+        """The monitor's variables."""
         return ["bool pending = false;  /* SpecA3's state: a move.in not yet answered by a call */"] if self.triggers else []
 
     def on_event(self, name: str) -> Code:
+        """What the monitor does on visible event `name` (FDR's naming: `UR::move.in`, `UR::moveJCall`)."""
         code: Code = []
         if any(_on_channel(name, c) for c in self.triggers):
             code.append("pending = true;")
@@ -131,6 +133,7 @@ class Monitor:
         return code
 
     def on_tock(self) -> Code:
+        """What the monitor does on `tock`."""
         # Nothing in UR depends on time, so without a monitor tock changes nothing; Spin rejects a
         # self-loop of `skip` ("unconditional self-loop"), and `assert(true)` is the no-op it accepts.
         return ["assert(!pending);"] if self.triggers else ["assert(true);"]
@@ -176,6 +179,7 @@ class Ranges:
     waypoints: int = 3
 
     def values(self, t: ast.Type) -> list[str]:
+        """Every value of type `t` that Spin enumerates, as Promela literals."""
         if isinstance(t, ast.PrimitiveType):
             if t.kind == "boolean":
                 return ["false", "true"]
@@ -215,11 +219,13 @@ class Translation:
     # -- names and expressions
 
     def scalars(self, v: ast.Variable) -> list[tuple[str, ast.Type]]:
+        """The Promela variables of `v`: itself, or one per field of a record."""
         if isinstance(v.type, ast.RecordType):
             return [(f"{v.name}_{f.name}", f.type) for f in v.type.fields]
         return [(v.name, v.type)]
 
     def expr(self, e: ast.Expr, bound: dict[str, str] | None = None) -> str:
+        """`e` in Promela; `bound` maps a function's parameters to its arguments while inlining it."""
         bound = bound or {}
         if isinstance(e, ast.Literal):
             if isinstance(e.value, bool):
@@ -247,10 +253,12 @@ class Translation:
         raise Untranslatable(f"the expression {type(e).__name__} at {e.pos.line}")
 
     def event(self, kind: str, name: str) -> str:
+        """The event's name as FDR prints it."""
         return {"in": f"{MACHINE}::{name}.in", "out": f"{MACHINE}::{name}.out", "call": f"{MACHINE}::{name}Call",
                 "terminate": f"{MACHINE}::terminate"}[kind]
 
     def fresh(self, prefix: str) -> str:
+        """A new label."""
         self.counter += 1
         return f"{prefix}{self.counter}"
 
@@ -330,7 +338,8 @@ class Translation:
         source_up = self.ancestors(self.machine.node(t.source).parent)
         target_up = self.ancestors(t.target)
         common = next((p for p in source_up if p in target_up and p != t.target), None)
-        exits = [p for p in self.ancestors(leaf)[: self.ancestors(leaf).index(common)]] if common else self.ancestors(leaf)
+        exits = self.ancestors(leaf)
+        exits = exits[: exits.index(common)] if common else exits
         enters = list(reversed(target_up[: target_up.index(common)] if common else target_up))
         steps: list[ast.Stmt | None] = [self.machine.node(p).exit for p in exits]
         steps.append(t.action)
@@ -380,6 +389,7 @@ class Translation:
         return [*code, f":: else -> goto {stuck}", "fi;"]
 
     def guard(self, t: ast.Transition) -> str:
+        """The condition of `t` in Promela."""
         if t.is_else:
             raise Untranslatable(f"'else' condition on {t.name}")
         return "true" if t.condition is None else self.expr(t.condition)
@@ -418,6 +428,7 @@ class Translation:
         self.blocks.append([*code, "fi;"])
 
     def triggered(self, t: ast.Transition, leaf: str) -> Code:
+        """The branch of a waiting block that takes triggered transition `t`: the event, then what follows."""
         trig = t.trigger
         assert trig is not None
         guard = f"({self.guard(t)}) -> " if t.condition is not None else ""
@@ -435,6 +446,7 @@ class Translation:
         raise Untranslatable(f"{t.name}: a trigger of kind {trig.kind}")
 
     def final_label(self, path: str) -> str:
+        """The block of top-level final state `path`: `terminate` offered, and tock meanwhile."""
         label = _label("F", path)
         if label not in self.made:
             self.made.add(label)
@@ -449,15 +461,20 @@ class Translation:
     # -- the whole process
 
     def promela(self, title: str) -> str:
+        """The whole Promela text."""
         m = self.machine
+        if m.clocks or m.interface_variables or any(n.during for n in m.nodes) or \
+                any(t.deadline is not None or t.clock_resets for t in m.transitions):
+            raise Untranslatable(f"{m.name} has clocks, deadlines, during actions or shared variables")
         decls: Code = []
         for v in m.variables:
             if v.constant:
                 continue
+            if v.initial is not None and isinstance(v.type, ast.RecordType):
+                raise Untranslatable(f"the initial value of record {v.name}")
             for name, ty in self.scalars(v):
                 # No initial value: 0. UR's only such variable, ur_move, is set by `move` before it is read.
-                init = self.expr(v.initial) if v.initial is not None and not isinstance(v.type, ast.RecordType) else (
-                    "false" if _ptype(ty) == "bool" else "0")
+                init = self.expr(v.initial) if v.initial is not None else "false" if _ptype(ty) == "bool" else "0"
                 decls.append(f"{_ptype(ty)} {name} = {init};")
         start: Code = []
         for c in m.constants:
@@ -560,6 +577,7 @@ class SpinResult:
 
 
 def spin(text: str, timeout: float, memory_mb: int) -> SpinResult:
+    """Compile and run Spin's verifier on `text` in a temporary directory."""
     with tempfile.TemporaryDirectory(prefix="tockbmc-peers-") as tmp:
         work = Path(tmp)
         (work / "ur.pml").write_text(text)
@@ -608,6 +626,7 @@ class TockbmcResult:
 
 
 def tockbmc_check(joints: int, assertion: str, ranges: list[str], timeout: float) -> TockbmcResult:
+    """`tockbmc check -a ASSERTION --format json` on the `joints`-joint example, as a process of its own."""
     cmd = [sys.executable, "-c", "from tockbmc.cli import main; main()", "check", str(EXAMPLES[joints]),
            "-a", assertion, "--format", "json", *(a for r in ranges for a in ("--range", r))]
     with tempfile.TemporaryDirectory(prefix="tockbmc-peers-") as tmp:
@@ -630,11 +649,13 @@ class Row:
 
     @property
     def label(self) -> str:
+        """How the row is printed."""
         if self.dist is None or self.time is None:
             return f"{self.joints} joints, unbounded"
         return f"{self.joints} joints, d ±{self.dist}, t {self.time[0]}..{self.time[1]}"
 
     def tockbmc_ranges(self) -> list[str]:
+        """The `--range` arguments of tockbmc for this row."""
         if self.dist is None or self.time is None:
             return []
         return [f"core_int={self.time[0]}..{self.time[1]}", f"core_real=-{self.dist}..{self.dist}"]
@@ -649,6 +670,7 @@ def _mb(x: float | None) -> str:
 
 
 def main() -> None:
+    """Print the table, or with --promela-only one Promela model."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--promela-only", action="store_true", help="print the Promela model on stdout and stop")
     parser.add_argument("--joints", type=int, choices=sorted(EXAMPLES), default=2)
