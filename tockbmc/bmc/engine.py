@@ -25,10 +25,8 @@ never print: they return an `Outcome`.
 
 from __future__ import annotations
 
-import contextlib
-import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
@@ -59,33 +57,6 @@ class Outcome:
     invariant: str = ""  # for a proof by invariant: the invariant, in the model's names
 
 
-class Interruptible:
-    """Lets another thread stop the solver call the search is in (and only then: a Z3 interrupt that
-    lands while terms are being built could cancel the building)."""
-
-    def __init__(self) -> None:
-        self._lock = threading.Lock()
-        self._solving = False
-
-    @contextlib.contextmanager
-    def solving(self) -> Iterator[None]:
-        with self._lock:
-            self._solving = True
-        try:
-            yield
-        finally:
-            with self._lock:
-                self._solving = False
-
-    def interrupt(self) -> None:
-        with self._lock:
-            if self._solving:
-                z3.main_ctx().interrupt()
-
-
-_QUIET = Interruptible()  # for searches nobody interrupts
-
-
 class _Clock:
     """The time left of one search, given to each solver call (Z3's timeout is per call)."""
 
@@ -106,8 +77,8 @@ class _Clock:
 class _Induction:
     """The step case of k-induction, extended one configuration at a time."""
 
-    def __init__(self, system: TransitionSystem, target: z3.BoolRef, clock: _Clock, guard: Interruptible):
-        self.system, self.target, self.clock, self.guard = system, target, clock, guard
+    def __init__(self, system: TransitionSystem, target: z3.BoolRef, clock: _Clock):
+        self.system, self.target, self.clock = system, target, clock
         self.unroller = Unroller(system)
         self.solver = z3.Solver()
         self.solver.add(system.invariants())
@@ -132,19 +103,17 @@ class _Induction:
         literal = z3.Bool(f"induction@{k}")
         self.solver.add(z3.Implies(literal, u.at(self.target, k)))
         self.solver.add(u.axioms_upto(k))
-        with self.guard.solving():
-            result = self.solver.check(literal)
+        result = self.solver.check(literal)
         return True if result == z3.unsat else (False if result == z3.sat else None)
 
 
 def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
-        induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None,
-        guard: Interruptible = _QUIET) -> Outcome:
+        induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None) -> Outcome:
     """Search runs of up to `bound` steps for one that reaches `target`.
 
     With `induction`, k-induction may prove after each depth that no run of any length does.
     `stop` is asked before each depth; when it says so, the search ends `unknown` (another
-    engine has decided); `guard.interrupt()` from another thread ends the solver call in progress.
+    engine has decided).
     """
     clock = _Clock(timeout)
     goal = target(system)
@@ -152,7 +121,7 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
     u = Unroller(system)
     solver = z3.Solver()
     solver.add(u.at(system.init(), 0))
-    prover = _Induction(system, goal, clock, guard) if induction else None
+    prover = _Induction(system, goal, clock) if induction else None
     for k in range(bound + 1):
         literal = z3.Bool(f"target@{k}")
         solver.add(z3.Implies(literal, u.at(goal, k)))
@@ -161,16 +130,13 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
             return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
         if stop is not None and stop():
             return Outcome(Status.UNKNOWN, k, reason=f"stopped at depth {k}")
-        with guard.solving():
-            result = solver.check(literal)
+        result = solver.check(literal)
         if result == z3.sat:
             if fewest_visible:
                 return _fewest_visible(u, goal, bound, solver, k, solver.model(), clock)
             return Outcome(Status.FOUND, k, u, solver.model())
         if result == z3.unknown:
             why = solver.reason_unknown()
-            if stop is not None and stop():
-                return Outcome(Status.UNKNOWN, k, reason=f"stopped at depth {k}")
             if why in ("canceled", "timeout", "interrupted"):
                 return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
             return Outcome(Status.UNKNOWN, k, reason=f"Z3 gave up at depth {k}: {why}")

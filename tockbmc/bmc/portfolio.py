@@ -3,8 +3,9 @@
 BMC finds shortest counterexamples and k-induction proves what is inductive
 after a few steps; PDR proves what needs a stronger invariant (a whole module
 that never terminates).  Spacer runs in a process of its own, on the other
-core; once it has proved the target unreachable a watching thread interrupts BMC's solver call
-(and BMC asks between depths too).
+core; BMC asks between depths whether it has answered.  (No thread interrupts BMC's solver
+call: a Z3 interrupt from another thread was seen to corrupt the main context's solver now and
+then, as a Horn query solved in a thread beside it did.)
 Whichever decides first decides; the other is stopped.  When BMC reaches its
 bound with nothing found, Spacer is given a little longer (as long as BMC took, between 1 s and `GRACE`) to turn
 "within the bound" into "for every length".  Every invariant is checked again
@@ -13,10 +14,9 @@ in a fresh solver before a verdict rests on it (`pdr.confirmed`).
 
 from __future__ import annotations
 
-import threading
 import time
 
-from tockbmc.bmc.engine import Interruptible, Outcome, Status, bmc
+from tockbmc.bmc.engine import Outcome, Status, bmc
 from tockbmc.bmc.pdr import Spacer, applicable, confirmed, describe
 from tockbmc.encodings.system import Target, TransitionSystem
 
@@ -31,27 +31,19 @@ def decide(system: TransitionSystem, target: Target, bound: int, timeout: float 
     if not induction or applicable(system, goal) is not None:
         return bmc(system, target, bound, timeout, induction, fewest_visible)
     spacer = Spacer(system, goal)
-    guard = Interruptible()
     spacer.start(timeout)
-
-    def watch() -> None:  # makes no Z3 call but the interrupt, which is meant for other threads
-        if spacer.wait(None) == "proved":
-            guard.interrupt()  # BMC's solver call is moot now
-
-    watcher = threading.Thread(target=watch, name="spacer-watch", daemon=True)
-    watcher.start()
     try:
         outcome = bmc(system, target, bound, timeout, induction, fewest_visible,
-                      stop=lambda: spacer.status == "proved", guard=guard)
+                      stop=lambda: spacer.wait(0) == "proved")
         if outcome.status in (Status.FOUND, Status.PROVED):
             return outcome
         took = time.monotonic() - start
         grace = min(GRACE, max(1.0, took))
         left = None if timeout is None else timeout - took
-        watcher.join(grace if left is None else max(0.0, min(grace, left)))
+        spacer.wait(grace if left is None else max(0.0, min(grace, left)))
     finally:
         spacer.kill()
-        watcher.join()
+        spacer.wait(None)  # reaps the child
     if spacer.status == "proved":
         invariant = spacer.invariant()
         if confirmed(system, goal, invariant):
