@@ -18,6 +18,7 @@ from tockbmc.check import DEFAULT_BOUND
 from tockbmc.check import check as run_check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ModelError, Project, ast, load
+from tockbmc.model.limits import recursion_room
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results, print_trace
 from tockbmc.report.results import summary as summary_counts
@@ -57,7 +58,9 @@ def show(paths: tuple[str, ...], fmt: str) -> None:
     """Print the resolved structure of the model in PATHS (files or directories)."""
     project = _load(paths)
     if fmt == "json":
-        click.echo(json.dumps({"tool": "tockbmc", "version": __version__, **project_data(project)}, indent=2))
+        with recursion_room():  # json writes nested states recursively, two levels each
+            text = json.dumps({"tool": "tockbmc", "version": __version__, **project_data(project)}, indent=2)
+        click.echo(text)
     else:
         # A pipe or a CI log has no width: never crop the tree there.
         width = None if sys.stdout.isatty() else 100_000

@@ -94,6 +94,7 @@ from fractions import Fraction
 from typing import Any, NamedTuple
 
 from tockbmc.model import ast
+from tockbmc.model.numbers import int_text, real_text
 
 # ----------------------------------------------------------------------------- public values
 
@@ -221,9 +222,9 @@ def value_text(t: ast.Type | None, v: object) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, Fraction):
-        if v.denominator == 1:
-            return str(v.numerator)
-        return str(float(v)) if Fraction(float(v)) == v else str(v)
+        return real_text(v)
+    if isinstance(v, int):
+        return int_text(v)
     return str(v)
 
 

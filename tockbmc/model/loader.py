@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import os
-import sys
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -12,6 +11,7 @@ from lark import Tree
 
 from tockbmc.model.ast import Pos, Project
 from tockbmc.model.diagnostics import Diagnostic, ModelError
+from tockbmc.model.limits import recursion_room
 from tockbmc.model.parser import parse
 from tockbmc.model.resolver import Resolver
 
@@ -60,18 +60,9 @@ def load(*paths: str | os.PathLike[str]) -> Project:
                                      "no .rct or .assertions files found")], texts)
     resolver = Resolver(parsed)
     root = str(paths[0]) if paths else "."
-    # Expressions are checked recursively: allow long flat sums and deep nesting
-    # (Python 3.11 calls between Python functions use no C stack).
-    limit = sys.getrecursionlimit()
-    sys.setrecursionlimit(max(limit, 20_000))
-    try:
+    # The resolver recurses a few frames per level of nesting (at most `MAX_NESTING`, see `parse`).
+    with recursion_room():
         project = resolver.resolve(root, texts)
-    except RecursionError:
-        first = parsed[0][0] if parsed else root
-        resolver.report(Pos(first, 1, 1), "model is nested too deeply to resolve")
-        project = None
-    finally:
-        sys.setrecursionlimit(limit)
     diagnostics += resolver.diagnostics
     errors = [d for d in diagnostics if d.severity == "error"]
     if errors or project is None:
