@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import sys
 from collections.abc import Callable
@@ -116,6 +117,13 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
     return result
 
 
+def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> float | None:
+    """`FloatRange` lets `nan` and `inf` through: neither is a number of seconds."""
+    if value is not None and not math.isfinite(value):
+        raise click.BadParameter(f"{value} is not a finite number of seconds")
+    return value
+
+
 @cli.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
 @click.option("-a", "--assertion", "names", multiple=True, help="Check only this assertion (repeatable).")
@@ -125,7 +133,7 @@ def _settings(specs: tuple[str, ...]) -> dict[str, ast.Expr]:
               help="Bound a type (core_int, core_nat, core_real, a model type) or a path (EXAX::move.time); "
                    "NAME=unbounded lifts it.")
 @click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
 @click.option("--engine", type=click.Choice(["bmc", "explicit"]), default="bmc", show_default=True,
