@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
 from collections.abc import Callable
 from fractions import Fraction
 from typing import TypeVar
 
 import click
-from rich.console import Console
 from rich.text import Text
 
 from tockbmc import __version__
@@ -24,6 +22,7 @@ from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results, print_trace
 from tockbmc.report.results import summary as summary_counts
 from tockbmc.report.results import to_json as results_json
+from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
 
 EXIT_MODEL_ERROR = 3
@@ -37,11 +36,13 @@ def _load(paths: tuple[str, ...]) -> Project:
     try:
         project = load(*paths)
     except ModelError as exc:
-        click.echo(render(exc.diagnostics, exc.sources), err=True)
-        click.echo(summary(exc.diagnostics), err=True)
+        with reader_may_leave(sys.stderr):
+            click.echo(render(exc.diagnostics, exc.sources), err=True)
+            click.echo(summary(exc.diagnostics), err=True)
         sys.exit(EXIT_MODEL_ERROR)
     if project.warnings:
-        click.echo(render(project.warnings, project.sources), err=True)
+        with reader_may_leave(sys.stderr):
+            click.echo(render(project.warnings, project.sources), err=True)
     return project
 
 
@@ -61,11 +62,13 @@ def show(paths: tuple[str, ...], fmt: str) -> None:
     if fmt == "json":
         with recursion_room():  # json writes nested states recursively, two levels each
             text = json.dumps({"tool": "tockbmc", "version": __version__, **project_data(project)}, indent=2)
-        click.echo(text)
+        with reader_may_leave(sys.stdout):
+            click.echo(text)
     else:
         # A pipe or a CI log has no width: never crop the tree there.
         width = None if sys.stdout.isatty() else 100_000
-        Console(soft_wrap=True, width=width).print(project_tree(project))
+        with reader_may_leave(sys.stdout):
+            PipeConsole(soft_wrap=True, width=width).print(project_tree(project))
 
 
 def _parse_range(text: str) -> tuple[str, Range | None]:
@@ -169,15 +172,12 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
         results = run_check(project, names or None, bound, ranges, settings, timeout, shortest=shortest)
-    try:
+    with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
         else:
             width = None if sys.stdout.isatty() else 160
-            print_results(results, _Console(width=width, soft_wrap=True))
-        sys.stdout.flush()
-    except BrokenPipeError:  # `tockbmc check … | head`: the reader left; the verdicts still decide the status
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            print_results(results, PipeConsole(width=width, soft_wrap=True))
     counts = summary_counts(results)
     sys.exit(10 if counts["violated"] else 20 if counts["unknown"] or counts["unsupported"] else 0)
 
@@ -210,9 +210,10 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
         click.echo(f"{exc.pos}: unsupported: {exc.what}", err=True)
         sys.exit(EXIT_MODEL_ERROR)
     width = None if sys.stdout.isatty() else 160
-    console = Console(width=width, soft_wrap=True)
-    console.print(Text(result.text, style="bold"))
-    print_trace(result, console)
+    with reader_may_leave(sys.stdout):  # `tockbmc simulate … | head`
+        console = PipeConsole(width=width, soft_wrap=True)
+        console.print(Text(result.text, style="bold"))
+        print_trace(result, console)
 
 
 def _guarded(command: Callable[[], T]) -> Callable[[], T]:
@@ -231,14 +232,9 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     return run
 
 
-class _Console(Console):
-    """Rich exits with status 1 when the reader of stdout goes away; the verdicts decide it here."""
-
-    def on_broken_pipe(self) -> None:
-        self.quiet = True
-        raise BrokenPipeError
-
-
 def main() -> None:
     """Console entry point."""
+    for name in usable_streams():
+        if name == "stdout":
+            click.echo("tockbmc: standard output is closed: nothing is printed there", err=True)
     _guarded(lambda: cli.main(standalone_mode=True))()

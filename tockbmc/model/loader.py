@@ -42,6 +42,9 @@ def load(*paths: str | os.PathLike[str]) -> Project:
     for f in files:
         name = str(f)
         kind = SUFFIXES.get(f.suffix)
+        if f.exists() and not f.is_file():  # a FIFO or a device would block or never end
+            diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a regular file: expected a .rct or .assertions file"))
+            continue
         if kind is None:
             diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a RoboChart file: expected a .rct or .assertions file"))
             continue
