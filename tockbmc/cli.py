@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import os
+import math
 import sys
 from collections.abc import Callable
 from typing import TypeVar
 
 import click
-from rich.console import Console
 from rich.text import Text
 
 from tockbmc import __version__
@@ -19,12 +18,14 @@ from tockbmc.check import check as run_check
 from tockbmc.model import ModelError, Project, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
+from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import exit_code
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.results import print_results, print_trace
 from tockbmc.report.results import to_json as results_json
+from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
 
 EXIT_MODEL_ERROR = 3
@@ -38,17 +39,20 @@ def _load(paths: tuple[str, ...], fmt: str = "text") -> Project:
     try:
         project = load(*paths)
     except ModelError as exc:
-        if fmt == "json":
-            click.echo(json.dumps(results_json([], __version__, "model-error", exc.diagnostics), indent=2))
-        elif fmt == "sarif":
-            click.echo(json.dumps(sarif.model_error_log(exc.diagnostics, __version__), indent=2))
-        elif fmt == "junit":
-            click.echo(junit.model_error_report(exc.diagnostics, exc.sources))
-        click.echo(render(exc.diagnostics, exc.sources), err=True)
-        click.echo(summary(exc.diagnostics), err=True)
+        with reader_may_leave(sys.stdout):
+            if fmt == "json":
+                click.echo(json.dumps(results_json([], __version__, "model-error", exc.diagnostics), indent=2))
+            elif fmt == "sarif":
+                click.echo(json.dumps(sarif.model_error_log(exc.diagnostics, __version__), indent=2))
+            elif fmt == "junit":
+                click.echo(junit.model_error_report(exc.diagnostics, exc.sources))
+        with reader_may_leave(sys.stderr):
+            click.echo(render(exc.diagnostics, exc.sources), err=True)
+            click.echo(summary(exc.diagnostics), err=True)
         sys.exit(EXIT_MODEL_ERROR)
     if project.warnings:
-        click.echo(render(project.warnings, project.sources), err=True)
+        with reader_may_leave(sys.stderr):
+            click.echo(render(project.warnings, project.sources), err=True)
     return project
 
 
@@ -66,11 +70,15 @@ def show(paths: tuple[str, ...], fmt: str) -> None:
     """Print the resolved structure of the model in PATHS (files or directories)."""
     project = _load(paths)
     if fmt == "json":
-        click.echo(json.dumps({"tool": "tockbmc", "version": __version__, **project_data(project)}, indent=2))
+        with recursion_room():  # json writes nested states recursively, two levels each
+            text = json.dumps({"tool": "tockbmc", "version": __version__, **project_data(project)}, indent=2)
+        with reader_may_leave(sys.stdout):
+            click.echo(text)
     else:
         # A pipe or a CI log has no width: never crop the tree there.
         width = None if sys.stdout.isatty() else 100_000
-        Console(soft_wrap=True, width=width).print(project_tree(project))
+        with reader_may_leave(sys.stdout):
+            PipeConsole(soft_wrap=True, width=width).print(project_tree(project))
 
 
 def _parse_range(text: str) -> tuple[str, Range | None]:
@@ -121,6 +129,13 @@ def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[
     return config
 
 
+def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> float | None:
+    """`FloatRange` lets `nan` and `inf` through: neither is a number of seconds."""
+    if value is not None and not math.isfinite(value):
+        raise click.BadParameter(f"{value} is not a finite number of seconds")
+    return value
+
+
 @cli.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
 @click.option("-a", "--assertion", "names", multiple=True, help="Check only this assertion (repeatable).")
@@ -133,7 +148,7 @@ def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[
               help="Give a constant a value (NAME: n, UR::n, main::ctrl::ur_ref::n, …); overrides the instantiation.")
 @click.option("--param", "param_specs", multiple=True, metavar="NAME",
               help="Make a constant without a value a parameter: every value of its type and range is considered.")
-@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None,
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",
               show_default=True, help="A table and traces, the JSON contract, the traces in Apalache's ITF, "
@@ -185,7 +200,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     if report_path is not None:
         from tockbmc.report.html import write_report
         write_report(report_path, results, title=" ".join(paths), version=__version__)
-    try:
+    with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
         elif fmt == "itf":
@@ -196,10 +211,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             click.echo(junit.report(results))
         else:
             width = None if sys.stdout.isatty() else 160
-            print_results(results, _Console(width=width, soft_wrap=True))
-        sys.stdout.flush()
-    except BrokenPipeError:  # `tockbmc check … | head`: the reader left; the verdicts still decide the status
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            print_results(results, PipeConsole(width=width, soft_wrap=True))
     sys.exit(exit_code(r.verdict for r in results))
 
 
@@ -231,9 +243,10 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
         click.echo(f"{exc.pos}: unsupported: {exc.what}", err=True)
         sys.exit(EXIT_MODEL_ERROR)
     width = None if sys.stdout.isatty() else 160
-    console = Console(width=width, soft_wrap=True)
-    console.print(Text(result.text, style="bold"))
-    print_trace(result, console)
+    with reader_may_leave(sys.stdout):  # `tockbmc simulate … | head`
+        console = PipeConsole(width=width, soft_wrap=True)
+        console.print(Text(result.text, style="bold"))
+        print_trace(result, console)
 
 
 def _guarded(command: Callable[[], T]) -> Callable[[], T]:
@@ -252,14 +265,9 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     return run
 
 
-class _Console(Console):
-    """Rich exits with status 1 when the reader of stdout goes away; the verdicts decide it here."""
-
-    def on_broken_pipe(self) -> None:
-        self.quiet = True
-        raise BrokenPipeError
-
-
 def main() -> None:
     """Console entry point."""
+    for name in usable_streams():
+        if name == "stdout":
+            click.echo("tockbmc: standard output is closed: nothing is printed there", err=True)
     _guarded(lambda: cli.main(standalone_mode=True))()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from decimal import Decimal
 from fractions import Fraction
 
 import z3
@@ -14,6 +15,7 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves
 from tockbmc.model import ast
 from tockbmc.model.config import declaration_key
+from tockbmc.model.numbers import real_text
 from tockbmc.model.result import TraceStep
 from tockbmc.properties.process import MonitorExtension
 
@@ -27,9 +29,8 @@ def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
         return "true"
     if z3.is_false(v):
         return "false"
-    if z3.is_rational_value(v):
-        f = Fraction(v.numerator_as_long(), v.denominator_as_long())
-        return str(f.numerator) if f.denominator == 1 else str(float(f)) if Fraction(float(f)) == f else str(f)
+    if z3.is_rational_value(v) or z3.is_int_value(v):
+        return real_text(_fraction(v))
     if z3.is_algebraic_value(v):
         return v.as_decimal(6)
     return str(v)
@@ -48,11 +49,18 @@ def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
     if z3.is_true(v) or z3.is_false(v):
         return z3.is_true(v)
     if z3.is_rational_value(v):
-        f = Fraction(v.numerator_as_long(), v.denominator_as_long())
+        f = _fraction(v)
         return int(f) if f.denominator == 1 and t != ast.REAL else f
     if z3.is_int_value(v):
-        return v.as_long()
+        return int(_fraction(v))
     return str(v)
+
+
+def _fraction(v: z3.RatNumRef | z3.IntNumRef) -> Fraction:
+    """A Z3 numeral as a Fraction, exactly, whatever its size (`as_long` refuses more than 4300 digits)."""
+    if z3.is_int_value(v):
+        return Fraction(int(Decimal(v.as_string())))
+    return Fraction(int(Decimal(v.numerator().as_string())), int(Decimal(v.denominator().as_string())))
 
 
 def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:

@@ -96,6 +96,10 @@ class Automaton:
     extra_variables: list[tuple[str, ast.Variable]] = field(default_factory=list)
     extra_clocks: list[str] = field(default_factory=list)
     inlined: dict[str, int] = field(default_factory=dict)  # operation name -> calls inlined so far
+    # Edge indices by target and by source, kept by `edge` and `retarget` (lookups while building).
+    _into: dict[int, list[int]] = field(default_factory=dict, repr=False, compare=False)
+    _from: dict[int, list[int]] = field(default_factory=dict, repr=False, compare=False)
+    _clocks: tuple[tuple[int, int], tuple[str, ...]] = field(default=((-1, -1), ()), repr=False, compare=False)
 
     def location(self, description: str, active: tuple[str, ...], kind: str = "action",
                  deadline: bool = False) -> int:
@@ -105,7 +109,21 @@ class Automaton:
     def edge(self, source: int, target: int, kind: str, **kw: object) -> Edge:
         e = Edge(len(self.edges), source, target, kind, **kw)  # type: ignore[arg-type]
         self.edges.append(e)
+        self._into.setdefault(target, []).append(e.index)
+        self._from.setdefault(source, []).append(e.index)
         return e
+
+    def edges_into(self, location: int) -> list[Edge]:
+        return [self.edges[i] for i in self._into.get(location, ())]
+
+    def edges_from(self, location: int) -> list[Edge]:
+        return [self.edges[i] for i in self._from.get(location, ())]
+
+    def retarget(self, e: Edge, target: int, pos: ast.Pos | None = None) -> None:
+        """Make edge `e` lead to `target` instead (keeping its own source text, else taking `pos`)."""
+        self._into[e.target].remove(e.index)
+        self._into.setdefault(target, []).append(e.index)
+        self.edges[e.index] = dataclasses.replace(e, target=target, pos=e.pos or pos)
 
     @property
     def name(self) -> str:
@@ -114,9 +132,13 @@ class Automaton:
     @property
     def clocks(self) -> tuple[str, ...]:
         """The machine's clocks, then the `sinceEntry` counters its expressions read."""
-        own = [c.name for c in self.machine.clocks]
-        extra = sorted(({r for e in self.edges for r in e.resets} | set(self.extra_clocks)) - set(own))
-        return (*own, *extra)
+        # Read once per edge while the unrolling is built: computed again only when edges are added.
+        key = (len(self.edges), len(self.extra_clocks))
+        if self._clocks[0] != key:
+            own = [c.name for c in self.machine.clocks]
+            extra = sorted(({r for e in self.edges for r in e.resets} | set(self.extra_clocks)) - set(own))
+            self._clocks = (key, (*own, *extra))
+        return self._clocks[1]
 
     def _kinds(self, *kinds: str) -> frozenset[int]:
         return frozenset(loc.index for loc in self.locations if loc.kind in kinds)
@@ -165,6 +187,13 @@ class _Builder:
         self.since_entry = self._since_entry_states()
         self._in_deadline = in_deadline
         self.parent_during: dict[str, ast.Node] = {}  # child state -> composite whose during starts there
+        # Looked up once per node: states may nest hundreds deep, and paths grow with the nesting.
+        self._nodes = {n.path: n for n in machine.nodes}
+        self._ancestors: dict[str, tuple[str, ...]] = {}
+        self._initials: dict[str | None, ast.Transition] = {}
+        self._from: dict[str, list[ast.Transition]] = {}
+        for t in machine.transitions:
+            self._from.setdefault(t.source, []).append(t)
         self._check_supported()
 
     def _location(self, description: str, active: tuple[str, ...], kind: str = "action",
@@ -240,8 +269,20 @@ class _Builder:
 
     def ancestors(self, path: str) -> tuple[str, ...]:
         """The states containing node `path`, outermost first (not the node itself)."""
-        parts = path.split("::")
-        return tuple("::".join(parts[:i]) for i in range(1, len(parts)))
+        known = self._ancestors
+        todo = []
+        p = path
+        while p not in known:
+            todo.append(p)
+            if "::" not in p:
+                known[p] = ()
+                break
+            p = p.rsplit("::", 1)[0]
+        for q in reversed(todo):
+            if q not in known:
+                parent = q.rsplit("::", 1)[0]
+                known[q] = (*known[parent], parent)
+        return known[path]
 
     def chain(self, path: str) -> tuple[str, ...]:
         """`path` and its ancestors, outermost first."""
@@ -312,15 +353,18 @@ class _Builder:
                                                                 frozenset(armed[t.name])))
 
     def _initial(self, region: str | None) -> ast.Transition:
-        for n in self.m.nodes:
-            if n.parent == region and n.kind == "initial":
-                for t in self.m.transitions:
-                    if t.source == n.path:
-                        return t
-        raise Unsupported(self.m.pos, f"region {region or self.m.name} has no initial transition")
+        if region not in self._initials:
+            for n in self.m.nodes:
+                if n.parent == region and n.kind == "initial":
+                    for t in self.m.transitions:
+                        if t.source == n.path:
+                            self._initials[region] = t
+                            return t
+            raise Unsupported(self.m.pos, f"region {region or self.m.name} has no initial transition")
+        return self._initials[region]
 
     def _outgoing(self, path: str) -> list[ast.Transition]:
-        return [t for t in self.m.transitions if t.source == path]
+        return self._from.get(path, [])
 
     # ------------------------------------------------------------ transitions
 
@@ -357,7 +401,7 @@ class _Builder:
         for s in reversed(active):
             if s in shared:
                 break
-            node = self.m.node(s)
+            node = self._nodes[s]
             if node.exit is not None:
                 cur = self._stmt(cur, node.exit, tuple(remaining), f"{s}: exit")
             remaining.remove(s)
@@ -366,16 +410,23 @@ class _Builder:
         self._follow(cur, t, tuple(remaining))
 
     def _follow(self, cur: int, t: ast.Transition, active: tuple[str, ...]) -> None:
-        """After `t`'s action: enter the states around its target, then the target."""
-        target = self.m.node(t.target)
-        for s in self.ancestors(target.path):
-            if s not in active:
+        """After `t`'s action: enter the states around its target, then the target, and on through
+        the initial transitions of composite states (a loop: states may nest hundreds deep)."""
+        step: tuple[int, ast.Transition, tuple[str, ...]] | None = (cur, t, active)
+        while step is not None:
+            cur, t, active = step
+            target = self._nodes[t.target]
+            outer = self.ancestors(target.path)
+            # `active` and `outer` are both chains from the top: their common part is a prefix.
+            shared = next((k + 1 for k in range(min(len(active), len(outer)) - 1, -1, -1)
+                           if active[k] == outer[k]), 0)
+            for s in outer[shared:]:
                 cur = self._entry(cur, s, active)
                 active = (*active, s)
-        self._enter(cur, target, active, t.pos)
+            step = self._enter(cur, target, active, t.pos)
 
     def _entry(self, cur: int, state: str, active: tuple[str, ...]) -> int:
-        node = self.m.node(state)
+        node = self._nodes[state]
         inside = (*active, state)
         if state in self.since_entry:
             nxt = self._location(f"{state}: entering", inside)
@@ -392,8 +443,10 @@ class _Builder:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
         return cur
 
-    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...], pos: ast.Pos | None = None) -> None:
-        """Enter `target` at the end of a transition (`pos`)."""
+    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...],
+               pos: ast.Pos | None = None) -> tuple[int, ast.Transition, tuple[str, ...]] | None:
+        """Enter `target` at the end of a transition (`pos`); for a composite state, returns its
+        initial transition for `_follow` to take."""
         if target.kind == "junction":
             self._goto(cur, self.junction[target.path], pos)
         elif target.kind == "final" and target.parent is None:
@@ -405,7 +458,7 @@ class _Builder:
                 inside = (*active, target.path)
                 if init.action is not None:
                     cur = self._stmt(cur, init.action, inside, f"{init.name}: action")
-                self._follow(cur, init, inside)
+                return cur, init, inside
             elif target.path in self.parent_during:
                 self._goto(cur, self._during(target, (*active, target.path), self.parent_during[target.path]))
             elif target.during is not None:
@@ -414,6 +467,7 @@ class _Builder:
                 self._goto(cur, self.stable[target.path], pos)
         else:
             raise Unsupported(target.pos, f"entering a {target.kind}")
+        return None
 
     def _during(self, state: ast.Node, active: tuple[str, ...], owner: ast.Node | None = None) -> int:
         """The start of a leaf state's during action (or, with `owner`, of the composite `owner`'s,
@@ -432,11 +486,9 @@ class _Builder:
 
     def _goto(self, cur: int, target: int, pos: ast.Pos | None = None) -> None:
         """Continue at `target`: redirect the one step into `cur` when that loses nothing."""
-        into = [e for e in self.a.edges if e.target == cur]
-        leaving = [e for e in self.a.edges if e.source == cur]
-        if cur != 0 and len(into) == 1 and not leaving and self.a.locations[cur].kind == "action":
-            e = into[0]
-            self.a.edges[e.index] = dataclasses.replace(e, target=target, pos=e.pos or pos)
+        into = self.a.edges_into(cur)
+        if cur != 0 and len(into) == 1 and not self.a.edges_from(cur) and self.a.locations[cur].kind == "action":
+            self.a.retarget(into[0], target, pos)
         else:
             self.a.edge(cur, target, "tau", pos=pos)
 

@@ -115,6 +115,29 @@ class Evaluator:
         self.clocks = clocks or {}  # clock name (or `sinceEntry(S)`) -> tocks counted
 
     def value(self, e: ast.Expr) -> Value:
+        """The Z3 value of `e`: operands first, from an explicit stack (expressions may nest
+        hundreds deep), each subexpression once."""
+        done: dict[int, Value] = {}
+        stack: list[tuple[ast.Expr, bool]] = [(e, False)]
+        while stack:
+            node, expanded = stack.pop()
+            if id(node) in done:
+                continue
+            inner = _operands(node)
+            if inner and not expanded:
+                stack.append((node, True))
+                stack.extend((x, False) for x in reversed(inner))
+                continue
+            done[id(node)] = self._apply(node, [done[id(x)] for x in inner])
+        return done[id(e)]
+
+    def scalar(self, e: ast.Expr) -> z3.ExprRef:
+        v = self.value(e)
+        assert not isinstance(v, dict)
+        return v
+
+    def _apply(self, e: ast.Expr, operands: list[Value]) -> Value:
+        """The value of `e` given the values of its `_operands`."""
         if isinstance(e, ast.Literal):
             if isinstance(e.value, bool):
                 return z3.BoolVal(e.value)
@@ -133,22 +156,23 @@ class Evaluator:
                 return self.constants[key]
             raise Unsupported(e.pos, f"variable '{e.variable.name}' has no value here")
         if isinstance(e, ast.FieldRef):
-            rec = self.value(e.record)
+            [rec] = operands
             assert isinstance(rec, dict)
             return rec[e.field_name]
         if isinstance(e, ast.RecordLiteral):
             assert isinstance(e.type, ast.RecordType)
-            given = dict(e.fields)
-            return {f.name: (self.value(given[f.name]) if f.name in given else fresh(f"unset.{f.name}", f.type))
+            given = {name: v for (name, _), v in zip(e.fields, operands, strict=True)}
+            return {f.name: (given[f.name] if f.name in given else fresh(f"unset.{f.name}", f.type))
                     for f in e.type.fields}
         if isinstance(e, ast.Unary):
-            v = self.scalar(e.operand)
+            [v] = operands
+            assert not isinstance(v, dict)
             return z3.Not(v) if e.op == "not" else -v
         if isinstance(e, ast.Binary):
-            return self._binary(e)
+            return _binary(e, *operands)
         if isinstance(e, ast.IfExpr):
-            c = self.scalar(e.condition)
-            a, b = self.value(e.then), self.value(e.otherwise)
+            c, a, b = operands
+            assert not isinstance(c, dict)
             if isinstance(a, dict) or isinstance(b, dict):
                 assert isinstance(a, dict) and isinstance(b, dict)
                 return {k: z3.If(c, a[k], b[k]) for k in a}
@@ -156,7 +180,7 @@ class Evaluator:
                 a, b = _to_real(a), _to_real(b)
             return z3.If(c, a, b)
         if isinstance(e, ast.Call):
-            return self._call(e)
+            return self._call(e, operands)
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
             if name not in self.clocks:
@@ -164,36 +188,8 @@ class Evaluator:
             return self.clocks[name]
         raise Unsupported(e.pos, f"{type(e).__name__} expressions are not encoded yet")
 
-    def scalar(self, e: ast.Expr) -> z3.ExprRef:
-        v = self.value(e)
-        assert not isinstance(v, dict)
-        return v
-
-    def _binary(self, e: ast.Binary) -> z3.ExprRef:
-        if e.op in ("and", "or", "implies", "iff"):
-            a, b = self.scalar(e.left), self.scalar(e.right)
-            return {"and": z3.And, "or": z3.Or, "implies": z3.Implies, "iff": lambda x, y: x == y}[e.op](a, b)
-        if e.op in ("==", "!="):
-            eq = equal(self.value(e.left), self.value(e.right))
-            return eq if e.op == "==" else z3.Not(eq)
-        a, b = self.scalar(e.left), self.scalar(e.right)
-        if a.sort() != b.sort() or e.type == ast.REAL:
-            a, b = _to_real(a), _to_real(b)
-        if e.op == "+":
-            return a + b
-        if e.op == "-":
-            return a - b
-        if e.op == "*":
-            return a * b
-        if e.op == "/":
-            return a / b
-        if e.op == "%":
-            return a % b
-        return {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b}[e.op]
-
-    def _call(self, e: ast.Call) -> Value:
+    def _call(self, e: ast.Call, args: list[Value]) -> Value:
         f = e.function
-        args = [self.value(a) for a in e.args]
         if f.definition is not None:
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side)
             defined = inner.value(f.definition)
@@ -223,11 +219,51 @@ class Evaluator:
         return result
 
 
+def _operands(e: ast.Expr) -> tuple[ast.Expr, ...]:
+    """The subexpressions whose values `Evaluator._apply` needs for `e`."""
+    if isinstance(e, ast.Binary):
+        return (e.left, e.right)
+    if isinstance(e, ast.Unary):
+        return (e.operand,)
+    if isinstance(e, ast.IfExpr):
+        return (e.condition, e.then, e.otherwise)
+    if isinstance(e, ast.FieldRef):
+        return (e.record,)
+    if isinstance(e, ast.RecordLiteral):
+        return tuple(v for _, v in e.fields)
+    if isinstance(e, ast.Call):
+        return e.args
+    return ()
+
+
+def _binary(e: ast.Binary, left: Value, right: Value) -> Value:
+    if e.op in ("==", "!="):
+        eq = equal(left, right)
+        return eq if e.op == "==" else z3.Not(eq)
+    assert not isinstance(left, dict) and not isinstance(right, dict)
+    a, b = left, right
+    if e.op in ("and", "or", "implies", "iff"):
+        return {"and": z3.And, "or": z3.Or, "implies": z3.Implies, "iff": lambda x, y: x == y}[e.op](a, b)
+    if a.sort() != b.sort() or e.type == ast.REAL:
+        a, b = _to_real(a), _to_real(b)
+    if e.op == "+":
+        return a + b
+    if e.op == "-":
+        return a - b
+    if e.op == "*":
+        return a * b
+    if e.op == "/":
+        return a / b
+    if e.op == "%":
+        return a % b
+    return {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b}[e.op]
+
+
 def _with_result(ev: Evaluator, cond: ast.Expr, result: z3.ExprRef) -> z3.BoolRef:
     class _R(Evaluator):
-        def value(self, e: ast.Expr) -> Value:  # noqa: D102 - binds `result`
+        def _apply(self, e: ast.Expr, operands: list[Value]) -> Value:  # noqa: D102 - binds `result`
             if isinstance(e, ast.ResultRef):
                 return result
-            return super().value(e)
+            return super()._apply(e, operands)
 
     return _R(ev.env, ev.constants, ev.side, ev.clocks).scalar(cond)

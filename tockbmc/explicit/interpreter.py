@@ -49,6 +49,11 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   range offers only its integer values (FDR's reals are integers); pass exact values through
   `inputs`/`choices` to try others. A given type `T` (values opaque) uses a range named `T`, its
   values being integers.
+* **Sampling.** With a `Sampler` (`tockbmc simulate`), a choice among more values than the
+  sampler's size is made among that many drawn at random, initial configurations are drawn rather
+  than listed, and types with no range take the sampler's windows. Whether an input trigger with a
+  deadline is armed is then decided on at most 4096 of its values. Without one, every value is
+  taken, as the explicit engine and replay need.
 * **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
   division by zero is `NotInterpretable`. `/` on reals is exact.
 * **Functions.** `postcondition result == e` defines `f` inside its preconditions (a call outside
@@ -88,12 +93,15 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import random
 from collections import defaultdict
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, NamedTuple
 
 from tockbmc.model import ast
+from tockbmc.model.numbers import int_text, real_text
 
 # ----------------------------------------------------------------------------- public values
 
@@ -221,9 +229,9 @@ def value_text(t: ast.Type | None, v: object) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, Fraction):
-        if v.denominator == 1:
-            return str(v.numerator)
-        return str(float(v)) if Fraction(float(v)) == v else str(v)
+        return real_text(v)
+    if isinstance(v, int):
+        return int_text(v)
     return str(v)
 
 
@@ -382,6 +390,32 @@ class _Ctx:
         self.upd[s] = v
 
 
+# ----------------------------------------------------------------------------- sampling
+
+
+class Sampler:
+    """How a random run chooses values, instead of listing every one (`tockbmc simulate`).
+
+    A choice among more than `size` values (an input, an initial value, a local without an initial
+    value, how long a `wait` lasts) is made among `size` values drawn at random; a type with no
+    range takes its values from `windows` (by range name, `given` for given types). Which windows
+    were used is kept in `used`.
+    """
+
+    def __init__(self, rng: random.Random, windows: dict[str, tuple[Fraction, Fraction]], size: int = 16) -> None:
+        self.rng = rng
+        self.windows = windows
+        self.size = size
+        self.used: dict[str, tuple[Fraction, Fraction]] = {}
+
+    def window(self, name: str, given: bool) -> tuple[Fraction, Fraction] | None:
+        key = "given" if given else name
+        r = self.windows.get(key)
+        if r is not None:
+            self.used[name] = r
+        return r
+
+
 # ----------------------------------------------------------------------------- the interpreter
 
 
@@ -391,8 +425,9 @@ class Interpreter:
     def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
                  ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
                  settings: dict[str, object] | None = None,
-                 defined: dict[str, ast.OperationDef] | None = None) -> None:
+                 defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None) -> None:
         self.element = element
+        self.sampler = sampler  # None: every value of every choice (the explicit engine, replay)
         self.ename = element.name
         self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
         self.settings = dict(settings or {})
@@ -742,6 +777,12 @@ class Interpreter:
     # ------------------------------------------------------------------ data
 
     def _type_range(self, t: ast.Type) -> tuple[str, tuple[Fraction, Fraction] | None]:
+        name, r = self._given_range(t)
+        if r is None and self.sampler is not None:
+            r = self.sampler.window(name, isinstance(t, ast.GivenType))
+        return name, r
+
+    def _given_range(self, t: ast.Type) -> tuple[str, tuple[Fraction, Fraction] | None]:
         if t == ast.INT:
             return "core_int", self.ranges.get("core_int")
         if t == ast.NAT:
@@ -771,21 +812,66 @@ class Interpreter:
         elif isinstance(t, ast.RecordType):
             parts = [self.domain(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
             d = [Record(zip([f.name for f in t.fields], combo, strict=True)) for combo in itertools.product(*parts)]
-        elif t == ast.STRING or not isinstance(t, (ast.PrimitiveType, ast.GivenType)):
-            raise NotInterpretable(None, f"values of type {t}")
         else:
-            r = next((self.ranges[p] for p in paths if p in self.ranges), None)
-            name, tr = self._type_range(t)
-            if r is None:
-                r = tr
-            if r is None:
-                raise Unbounded(name, paths[0] if paths else None)
-            lo, hi = math.ceil(r[0]), math.floor(r[1])
-            if t == ast.NAT:
-                lo = max(lo, 0)
+            lo, hi = self._bounds(t, paths)
             d = [Fraction(n) for n in range(lo, hi + 1)] if t == ast.REAL else list(range(lo, hi + 1))
         self._domains[key] = d
         return d
+
+    def _bounds(self, t: ast.Type, paths: tuple[str, ...]) -> tuple[int, int]:
+        """The integers a scalar of type `t` takes (a real's integer values): a path's range, else its type's."""
+        if t == ast.STRING or not isinstance(t, (ast.PrimitiveType, ast.GivenType)):
+            raise NotInterpretable(None, f"values of type {t}")
+        r = next((self.ranges[p] for p in paths if p in self.ranges), None)
+        name, tr = self._type_range(t)
+        if r is None:
+            r = tr
+        if r is None:
+            raise Unbounded(name, paths[0] if paths else None)
+        lo, hi = math.ceil(r[0]), math.floor(r[1])
+        if t == ast.NAT:
+            lo = max(lo, 0)
+        return lo, hi
+
+    def _size(self, t: ast.Type | None, paths: tuple[str, ...]) -> int:
+        """How many values `domain(t, paths)` has, without listing them."""
+        if t is None:
+            return 1
+        if t == ast.BOOLEAN:
+            return 2
+        if isinstance(t, ast.EnumType):
+            return len(t.literals)
+        if isinstance(t, ast.RecordType):
+            return math.prod(self._size(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields)
+        lo, hi = self._bounds(t, paths)
+        return max(0, hi - lo + 1)
+
+    def _draw(self, t: ast.Type | None, paths: tuple[str, ...]) -> object:
+        """One value of `t` drawn at random by the sampler (the domain must not be empty)."""
+        assert self.sampler is not None
+        rng = self.sampler.rng
+        if t is None:
+            return None
+        if t == ast.BOOLEAN:
+            return rng.choice((False, True))
+        if isinstance(t, ast.EnumType):
+            return f"{t.name}::{rng.choice(t.literals)}"
+        if isinstance(t, ast.RecordType):
+            return Record({f.name: self._draw(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields})
+        lo, hi = self._bounds(t, paths)
+        n = rng.randint(lo, hi)
+        return Fraction(n) if t == ast.REAL else n
+
+    def _choices(self, t: ast.Type | None, paths: tuple[str, ...] = (), limit: int | None = None) -> list:
+        """The values a choice of `t` is made among: every one, or when sampling and there are more
+        than `limit` (the sampler's size by default), that many drawn at random."""
+        if self.sampler is None:
+            return self.domain(t, paths)
+        limit = limit or self.sampler.size
+        size = self._size(t, paths)
+        if size <= limit:
+            return self.domain(t, paths)
+        return list(dict.fromkeys(self._draw(t, paths) for _ in range(limit)))
 
     def _get(self, ctx: _Ctx, var: ast.Variable) -> object:
         b = ctx.bind
@@ -943,7 +1029,7 @@ class Interpreter:
         variables without an initial value (over their ranges, or from `choices`)."""
         choices = choices or {}
         base: list[object] = [None] * len(self.slots)
-        open_slots: list[tuple[int, list]] = []
+        open_slots: list[tuple[int, ast.Type, tuple[str, ...]]] = []
         deferred: list[tuple[int, _Slot]] = []
         for s, info in enumerate(self.slots):
             if info.kind in ("clock", "since", "tdl"):
@@ -959,16 +1045,22 @@ class Interpreter:
                 elif var.initial is not None:
                     deferred.append((s, info))
                 else:
-                    open_slots.append((s, self.domain(var.type, self._paths_of(info))))
+                    open_slots.append((s, var.type, self._paths_of(info)))
         # constants first, then variables, each in declaration order
         deferred.sort(key=lambda x: 0 if x[1].kind == "const" else 1)
         frames = tuple((Frame(inst.beh, self.behs[inst.beh].initial[None], (), False, (), (), None),)
                        for inst in self.insts)
         out: list[Config] = []
         seen: set[Config] = set()
-        for combo in itertools.product(*(d for _, d in open_slots)):
+        if self.sampler is None:
+            combos: Iterable[tuple] = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
+        else:  # a random run needs one: draw them until the initial values fit, a bounded number of times
+            if any(self._size(t, p) == 0 for _, t, p in open_slots):
+                return []
+            combos = (tuple(self._draw(t, p) for _, t, p in open_slots) for _ in range(self.sampler.size))
+        for combo in combos:
             store = list(base)
-            for (s, _), v in zip(open_slots, combo, strict=True):
+            for (s, _, _), v in zip(open_slots, combo, strict=True):
                 store[s] = v
             ok = True
             for s, info in deferred:
@@ -987,6 +1079,8 @@ class Interpreter:
             if c not in seen:
                 seen.add(c)
                 out.append(c)
+                if self.sampler is not None:
+                    break
         return out
 
     def _paths_of(self, info: _Slot) -> tuple[str, ...]:
@@ -1234,7 +1328,11 @@ class Interpreter:
             ctx = _Ctx(cfg.store, i)
             lo = self._eval(ctx, st.low)
             hi = self._eval(ctx, st.high)
-            for n in range(math.ceil(lo), math.floor(hi) + 1):
+            first, last = math.ceil(lo), math.floor(hi)
+            durations: Iterable[int] = range(first, last + 1)
+            if self.sampler is not None and last - first + 1 > self.sampler.size:
+                durations = sorted({self.sampler.rng.randint(first, last) for _ in range(self.sampler.size)})
+            for n in durations:
                 c2 = _Ctx(cfg.store, i)
                 nf = f._replace(cont=(("w", n), *rest))
                 out.append(("tau", f"{mname}: wait({n})", self._result(c2, [*frames[:-1], nf])))
@@ -1254,9 +1352,11 @@ class Interpreter:
         locals_ = [v for v in d.variables if not v.constant]  # constants are set once, like the machine's
         fixed = [(v, None) for v in locals_ if v.initial is not None]
         free = [v for v in locals_ if v.initial is None]
-        doms = [self.domain(v.type, (f"{self.insts[i].name}.{d.name}().{v.name}", f"{d.qname}::{v.name}"))
-                for v in free]
-        for combo in itertools.product(*doms):
+        paths = [(f"{self.insts[i].name}.{d.name}().{v.name}", f"{d.qname}::{v.name}") for v in free]
+        combos: Iterable[tuple] = itertools.product(*(self.domain(v.type, p) for v, p in zip(free, paths)))
+        if self.sampler is not None and math.prod(self._size(v.type, p) for v, p in zip(free, paths)) > self.sampler.size:
+            combos = [tuple(self._draw(v.type, p) for v, p in zip(free, paths)) for _ in range(self.sampler.size)]
+        for combo in combos:
             c2 = _Ctx(cfg.store, i, ctx.upd)
             for v, val in zip(free, combo, strict=True):
                 c2.set(self._slot(i, v), val)
@@ -1295,7 +1395,7 @@ class Interpreter:
         trig = t.trigger
         if trig is not None and trig.kind == "input" and trig.variable is not None:
             var = trig.variable
-            for v in self.domain(trig.event.type, ()):
+            for v in self._choices(trig.event.type, (), limit=4096):
                 c2 = _Ctx(ctx.base, ctx.i)
                 if self._assign(c2, var, (), v) and self._guard(c2, beh, t):
                     return True
@@ -1351,7 +1451,7 @@ class Interpreter:
                 return self.domain(t, paths)
             except Unbounded:
                 return []
-        return self.domain(t, paths)
+        return self._choices(t, paths)
 
     def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
         """Every step possible from `config` (docs/semantics.md §3.2)."""

@@ -17,6 +17,8 @@ from lark import Lark, Token, Tree, UnexpectedInput
 
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.limits import MAX_CSP_NESTING, long_numbers, too_deep
+from tockbmc.model.numbers import max_digits
 
 
 class CspError(Unsupported):
@@ -74,6 +76,11 @@ def parse_block(block: ast.CspBlock) -> tuple[Definition, ...]:
     except UnexpectedInput as exc:
         pos = position(block, getattr(exc, "line", 1) or 1, getattr(exc, "column", 1) or 1)
         raise CspError(pos, "this CSP is outside the subset tockbmc understands (docs/language.md §4)") from None
+    deep = too_deep(tree, MAX_CSP_NESTING)
+    if deep is not None:
+        raise CspError(pos_of(block, deep), f"nested too deeply: more than {MAX_CSP_NESTING} levels of CSP operators")
+    for token in long_numbers(tree, {"NUMBER"}):
+        raise CspError(pos_of(block, token), f"number too long: at most {max_digits()} digits")
     out: list[Definition] = []
     for item in tree.children:
         if not isinstance(item, Tree):

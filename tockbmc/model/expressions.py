@@ -10,13 +10,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from fractions import Fraction
 
 from lark import Token, Tree
 
 from tockbmc.model import ast
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import suggestion
+from tockbmc.model.numbers import max_digits, parse_int, parse_real
 from tockbmc.model.scope import qname_text
 
 Report = Callable[[Pos, str], None]
@@ -124,10 +124,20 @@ class ExprChecker:
         return method(node, p)
 
     def _x_int_lit(self, node: Tree, p: Pos) -> ast.Expr:
-        return ast.Literal(NAT, p, int(str(node.children[0])))
+        value = parse_int(str(node.children[0]))
+        if value is None:
+            return self._too_long(node, p)
+        return ast.Literal(NAT, p, value)
 
     def _x_float_lit(self, node: Tree, p: Pos) -> ast.Expr:
-        return ast.Literal(REAL, p, Fraction(str(node.children[0])))
+        value = parse_real(str(node.children[0]))
+        if value is None:
+            return self._too_long(node, p)
+        return ast.Literal(REAL, p, value)
+
+    def _too_long(self, node: Tree, p: Pos) -> ast.Expr:
+        self.error(node, f"number literal too long: at most {max_digits()} digits")
+        return ast.Literal(ERROR, p, 0)
 
     def _x_bool_lit(self, node: Tree, p: Pos) -> ast.Expr:
         return ast.Literal(BOOLEAN, p, str(node.children[0]) == "true")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import os
-import sys
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -12,6 +11,7 @@ from lark import Tree
 
 from tockbmc.model.ast import Pos, Project
 from tockbmc.model.diagnostics import Diagnostic, ModelError
+from tockbmc.model.limits import recursion_room
 from tockbmc.model.parser import parse
 from tockbmc.model.resolver import Resolver
 
@@ -42,6 +42,9 @@ def load(*paths: str | os.PathLike[str]) -> Project:
     for f in files:
         name = str(f)
         kind = SUFFIXES.get(f.suffix)
+        if f.exists() and not f.is_file():  # a FIFO or a device would block or never end
+            diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a regular file: expected a .rct or .assertions file"))
+            continue
         if kind is None:
             diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a RoboChart file: expected a .rct or .assertions file"))
             continue
@@ -60,18 +63,9 @@ def load(*paths: str | os.PathLike[str]) -> Project:
                                      "no .rct or .assertions files found")], texts)
     resolver = Resolver(parsed)
     root = str(paths[0]) if paths else "."
-    # Expressions are checked recursively: allow long flat sums and deep nesting
-    # (Python 3.11 calls between Python functions use no C stack).
-    limit = sys.getrecursionlimit()
-    sys.setrecursionlimit(max(limit, 20_000))
-    try:
+    # The resolver recurses a few frames per level of nesting (at most `MAX_NESTING`, see `parse`).
+    with recursion_room():
         project = resolver.resolve(root, texts)
-    except RecursionError:
-        first = parsed[0][0] if parsed else root
-        resolver.report(Pos(first, 1, 1), "model is nested too deeply to resolve")
-        project = None
-    finally:
-        sys.setrecursionlimit(limit)
     diagnostics += resolver.diagnostics
     errors = [d for d in diagnostics if d.severity == "error"]
     if errors or project is None:

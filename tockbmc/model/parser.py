@@ -10,10 +10,11 @@ from __future__ import annotations
 from functools import lru_cache
 from importlib import resources
 
-from lark import Lark, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+from lark import Lark, Token, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from tockbmc.model.ast import Pos
 from tockbmc.model.diagnostics import Diagnostic
+from tockbmc.model.limits import MAX_NESTING, too_deep
 
 # Readable names for the grammar's pattern terminals, used in syntax error messages;
 # string terminals are shown as their text.
@@ -36,9 +37,24 @@ def parse(text: str, path: str, kind: str) -> tuple[Tree | None, list[Diagnostic
     Returns the tree, or None and the syntax error as a diagnostic.
     """
     try:
-        return _parser().parse(text, start=kind), []
+        tree = _parser().parse(text, start=kind)
     except UnexpectedInput as exc:
         return None, [_syntax_error(exc, text, path)]
+    deep = too_deep(tree)
+    if deep is not None:
+        return None, [Diagnostic(_start(path, deep), f"nested too deeply: more than {MAX_NESTING} levels of states, "
+                                                     "statements and expressions")]
+    return tree, []
+
+
+def _start(path: str, tree: Tree) -> Pos:
+    """Where `tree` starts (a one-character span: the subtree may run over many lines)."""
+    node: Tree | Token = tree
+    while isinstance(node, Tree) and getattr(node.meta, "empty", True) and node.children:
+        node = node.children[0]
+    if isinstance(node, Token):
+        return Pos(path, node.line or 1, node.column or 1)
+    return Pos(path, getattr(node.meta, "line", 1), getattr(node.meta, "column", 1))
 
 
 def _describe(token_type: str, value: str) -> str:

@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from tockbmc.model.numbers import real_text
+
 
 @dataclass(frozen=True)
 class Range:
@@ -14,11 +16,7 @@ class Range:
     high: Fraction
 
     def __str__(self) -> str:
-        return f"{_num(self.low)}..{_num(self.high)}"
-
-
-def _num(x: Fraction) -> str:
-    return str(x.numerator) if x.denominator == 1 else str(float(x))
+        return f"{real_text(self.low)}..{real_text(self.high)}"
 
 
 @dataclass(frozen=True)

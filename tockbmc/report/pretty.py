@@ -5,6 +5,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from tockbmc.model import ast
+from tockbmc.model.numbers import int_text, real_text
 
 _SYMBOL = {"and": "/\\", "or": "\\/", "implies": "=>", "iff": "<=>"}
 _PRECEDENCE = {"iff": 1, "implies": 2, "or": 3, "and": 4, "==": 6, "!=": 6, "<": 6, "<=": 6, ">": 6,
@@ -16,12 +17,11 @@ def value_text(value: object) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, Fraction):
-        if value.denominator == 1:
-            return f"{value.numerator}.0"
-        as_float = float(value)
-        return repr(as_float) if Fraction(repr(as_float)) == value else f"{value.numerator}/{value.denominator}"
+        return f"{int_text(value.numerator)}.0" if value.denominator == 1 else real_text(value)
     if isinstance(value, str):
         return f'"{value}"'
+    if isinstance(value, int):
+        return int_text(value)
     return str(value)
 
 

@@ -29,15 +29,20 @@ def _operation_sig(o: ast.OperationSig) -> Data:
     return {"name": o.name, "parameters": [{"name": p.name, "type": str(p.type)} for p in o.parameters]}
 
 
-def _node(b: ast.Behaviour, n: ast.Node) -> Data:
-    data: Data = {"name": n.name, "kind": n.kind, "path": n.path, "pos": _pos(n.pos)}
-    for kind in ("entry", "during", "exit"):
-        action = getattr(n, kind)
-        if action is not None:
-            data[kind] = stmt_text(action)
-    if n.children:
-        data["nodes"] = [_node(b, b.node(c)) for c in n.children]
-    return data
+def _nodes_data(b: ast.Behaviour) -> list[Data]:
+    """The top-level nodes of `b`, each with its children under "nodes" (a loop: states may nest deeply)."""
+    by_path: dict[str, Data] = {}
+    for n in b.nodes:
+        data: Data = {"name": n.name, "kind": n.kind, "path": n.path, "pos": _pos(n.pos)}
+        for kind in ("entry", "during", "exit"):
+            action = getattr(n, kind)
+            if action is not None:
+                data[kind] = stmt_text(action)
+        by_path[n.path] = data
+    for n in b.nodes:
+        if n.children:
+            by_path[n.path]["nodes"] = [by_path[c] for c in n.children]
+    return [by_path[n.path] for n in b.nodes if n.parent is None]
 
 
 def _transition(t: ast.Transition) -> Data:
@@ -59,7 +64,7 @@ def behaviour_data(b: ast.Behaviour) -> Data:
         "interface_variables": [_variable(v) for v in b.interface_variables],
         "clocks": [c.name for c in b.clocks],
         "operations": [_operation_sig(o) for o in b.operations],
-        "nodes": [_node(b, n) for n in b.nodes if n.parent is None],
+        "nodes": _nodes_data(b),
         "transitions": [_transition(t) for t in b.transitions],
     }
     if isinstance(b, ast.OperationDef):
@@ -151,13 +156,14 @@ def _decls(tree: Tree, data: Data) -> None:
 
 
 def _nodes(tree: Tree, nodes: list[Data]) -> None:
-    for n in nodes:
-        label = f"[cyan]{n['kind']}[/] {n['name']}"
-        branch = tree.add(label)
+    todo = [(tree, n) for n in reversed(nodes)]
+    while todo:  # depth first, in order, without recursion
+        parent, n = todo.pop()
+        branch = parent.add(f"[cyan]{n['kind']}[/] {n['name']}")
         for kind in ("entry", "during", "exit"):
             if kind in n:
                 branch.add(f"{kind} {_escape(n[kind])}")
-        _nodes(branch, n.get("nodes", []))
+        todo.extend((branch, c) for c in reversed(n.get("nodes", [])))
 
 
 def _escape(text: str) -> str:

@@ -1,0 +1,175 @@
+"""Input at and past the documented limits (README, "Limits"): a diagnostic past them, every
+command working up to them, and numbers of any size printed exactly."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from decimal import Decimal
+from pathlib import Path
+
+import pytest
+from conftest import run_cli, write_files
+
+from tockbmc import load
+from tockbmc.check import check
+from tockbmc.model.limits import MAX_CSP_NESTING, MAX_NESTING
+
+RANGE = ["--range", "core_int=-1..1", "--range", "core_real=-1..1"]
+
+
+def machine(variable: str = "var x : int = 1", state: str = "state s {}", transition: str = "",
+            action: str = "") -> str:
+    """M: variable, `e : real`, state(s), `t0` from the initial junction to `s` (with `action`), `transition`."""
+    t0 = f"transition t0 {{ from i to s{' action ' + action if action else ''} }}"
+    return f"stm M {{\n  {variable}\n  event e : real\n  initial i\n  {state}\n  {t0}\n  {transition}\n}}\n"
+
+
+def project(tmp_path: Path, rct: str, assertions: str = "assertion A: M is deadlock-free.\n") -> Path:
+    return write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
+
+
+def nested_states(n: int) -> str:
+    inner = "state s { }"
+    for k in range(n):
+        inner = f"state s {{ initial i {inner} transition t{k} {{ from i to s }} }}"
+    return inner
+
+
+# -------------------------------------------------------------------- numbers
+
+
+@pytest.mark.parametrize("literal", ["1" * 5000, "1." + "5" * 5000])
+def test_a_number_literal_too_long_for_python_is_a_diagnostic(tmp_path: Path, literal: str) -> None:
+    path = project(tmp_path, machine(f"var x : real = {literal}"))
+    result = run_cli(["show", path])
+    assert result.crash is None and result.exit_code == 3, result.output
+    assert f"m.rct:2:18: error: number literal too long: at most {sys.get_int_max_str_digits()} digits" \
+        in result.stderr
+    assert "\n                   ^~~" in result.stderr  # the caret under the literal
+
+
+def test_a_long_number_in_a_csp_block_makes_its_assertions_unsupported(tmp_path: Path) -> None:
+    block = "timed csp P csp-begin\nP = M::e.out." + "1" * 5000 + " -> STOP\ncsp-end\n"
+    path = project(tmp_path, machine(), block + "assertion A: M refines P in the traces model.\n")
+    result = run_cli(["check", path, "-k", "2", "--format", "json"])
+    assert result.crash is None and result.exit_code == 20, result.output
+    [r] = json.loads(result.stdout)["results"]
+    assert r["verdict"] == "unsupported" and "number too long" in r["reason"] and "m.assertions:2:14" in r["reason"]
+
+
+BIG = "1" + "0" * 400 + ".5"
+TINY = "0." + "0" * 400 + "1"
+
+
+@pytest.mark.parametrize("literal", [BIG, TINY])
+def test_reals_beyond_floats_print_exactly(tmp_path: Path, literal: str) -> None:
+    """Neither 10^400 + 0.5 nor 10^-401 is a float: both print digit for digit."""
+    path = project(tmp_path, machine("var x : real = " + literal, action="e!x"))
+    shown = run_cli(["show", path])
+    assert shown.exit_code == 0 and f"var x : real = {literal}" in shown.stdout, shown.output
+    checked = run_cli(["check", path, "-k", "3", "--format", "json"])
+    assert checked.exit_code == 10, checked.output
+    [r] = json.loads(checked.stdout)["results"]
+    assert [s["event"] for s in r["trace"]][-1] == f"M::e.out.{literal}" and r["replayed"] == "yes"
+    simulated = run_cli(["simulate", path, "--steps", "3"])
+    assert simulated.exit_code == 0 and f"M::e.out.{literal}" in simulated.stdout, simulated.output
+
+
+def test_values_computed_past_python_s_digit_limit_print(tmp_path: Path) -> None:
+    """A 3000-digit literal squared has 6000 digits: the interpreter's trace still prints it."""
+    big = "7" * 3000
+    rct = machine(f"var x : real = {big}", action="x = x * x ; e!x")
+    result = run_cli(["simulate", project(tmp_path, rct), "--steps", "4"])
+    assert result.crash is None and result.exit_code == 0, result.output
+    assert f"M: x := {Decimal(int(big) ** 2)}" in result.stdout
+
+
+# -------------------------------------------------------------------- nesting
+
+
+def test_nesting_past_the_limit_is_a_diagnostic_at_the_place(tmp_path: Path) -> None:
+    sum_ = "+".join(["x"] * (MAX_NESTING + 10))
+    path = project(tmp_path, machine(transition=f"transition t1 {{ from s to s condition {sum_} > 0 }}"))
+    result = run_cli(["check", path])
+    assert result.crash is None and result.exit_code == 3, result.output
+    column = len("  transition t1 { from s to s condition ") + 1
+    assert f"m.rct:7:{column}: error: nested too deeply: more than {MAX_NESTING} levels" in result.stderr
+
+
+@pytest.mark.parametrize("text", [
+    "not (" * 1000 + "true" + ")" * 1000,
+    "-(" * 1000 + "1" + ")" * 1000,
+    "if true then " * 1000 + "1" + " else 0 end" * 1000,
+])
+def test_deep_expressions_of_every_kind_are_diagnosed(tmp_path: Path, text: str) -> None:
+    result = run_cli(["show", project(tmp_path, machine(f"var x : int = {text}"))])
+    assert result.crash is None and result.exit_code == 3 and "nested too deeply" in result.stderr, result.output
+
+
+def test_csp_nested_past_its_limit_is_unsupported(tmp_path: Path) -> None:
+    spec = " [] ".join(["M::e.out.1 -> STOP"] * (MAX_CSP_NESTING + 50))
+    block = f"timed csp P csp-begin\nP = {spec}\ncsp-end\n"
+    path = project(tmp_path, machine(), block + "assertion A: M refines P in the traces model.\n")
+    result = run_cli(["check", path, "-k", "2", "--format", "json"])
+    assert result.crash is None and result.exit_code == 20, result.output
+    [r] = json.loads(result.stdout)["results"]
+    assert r["verdict"] == "unsupported" and f"more than {MAX_CSP_NESTING} levels" in r["reason"]
+
+
+def test_csp_nested_up_to_its_limit_is_checked(tmp_path: Path) -> None:
+    spec = " [] ".join(["M::e.out.1 -> STOP"] * (MAX_CSP_NESTING - 10))
+    block = f"timed csp P csp-begin\nP = {spec}\ncsp-end\n"
+    rct = machine("var x : real = 1", transition="transition t1 { from s to s action e!x }")
+    path = project(tmp_path, rct, block + "assertion A: M refines P in the traces model.\n")
+    for engine in ("bmc", "explicit"):
+        result = run_cli(["check", path, "-k", "3", "--engine", engine, "--format", "json", *RANGE])
+        assert result.crash is None and result.exit_code == 10, result.output
+        assert json.loads(result.stdout)["results"][0]["verdict"] == "violated"
+
+
+AT_THE_LIMIT = {
+    # the condition sits 7 levels down (file, machine, transition, condition, comparison)
+    "sum": machine(transition="transition t1 { from s to s condition " + "+".join(["x"] * (MAX_NESTING - 10))
+                   + " > 0 action e!1 }"),
+    "negation": machine(transition="transition t1 { from s to s action e!(" + "-(" * (MAX_NESTING - 10) + "x"
+                        + ")" * (MAX_NESTING - 10) + ") }"),
+    "states": machine(state=nested_states(MAX_NESTING - 10), transition="transition t1 { from s to s action e!1 }"),
+}
+
+
+@pytest.mark.parametrize("shape", sorted(AT_THE_LIMIT))
+def test_every_command_runs_on_nesting_up_to_the_limit(tmp_path: Path, shape: str) -> None:
+    path = project(tmp_path, AT_THE_LIMIT[shape])
+    runs = [["show", path], ["show", path, "--format", "json"], ["simulate", path, "--steps", "4", *RANGE],
+            ["check", path, "-k", "2", "--engine", "explicit", *RANGE]]
+    if shape != "states":  # BMC on states nested 490 deep takes 15 s: see the next test
+        runs.append(["check", path, "-k", "2"])
+    for args in runs:
+        result = run_cli(args)
+        assert result.crash is None and result.exit_code in (0, 10, 20), (args, result.output[-2000:])
+
+
+@contextmanager
+def stack_of(frames: int) -> Iterator[None]:
+    """Run the block with only `frames` more Python frames than the caller has."""
+    depth = 0
+    f = sys._getframe()
+    while f is not None:
+        depth, f = depth + 1, f.f_back
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(depth + frames)
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(limit)
+
+
+def test_bmc_of_nested_states_takes_no_stack_per_level(tmp_path: Path) -> None:
+    """States 150 deep, checked in 120 frames: entering them is a loop, not a recursion."""
+    loaded = load(project(tmp_path, machine(state=nested_states(150), transition="transition t1 { from s to s action e!1 }")))
+    with stack_of(120):
+        [r] = check(loaded, bound=2)
+    assert r.verdict == "holds"
