@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 
 from tockbmc.bmc.engine import bmc
 from tockbmc.bmc.result import Result
@@ -31,10 +31,18 @@ def check(project: ast.Project, names: Iterable[str] | None = None, bound: int =
     `tock`s) within the bound, rather than the first found, of fewest steps; it costs an unrolling
     to the bound.
     """
+    return list(iter_check(project, names, bound, ranges, settings, timeout, induction, shortest))
+
+
+def iter_check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
+               ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
+               timeout: float | None = None, induction: bool = True, shortest: str = "steps") -> Iterator[Result]:
+    """`check`'s results one at a time, each as soon as it is decided."""
     ranges = ranges or Ranges()
     wanted = set(names) if names is not None else None
-    return [check_assertion(project, a, bound, ranges, settings or {}, timeout, induction, shortest)
-            for a in project.assertions if wanted is None or a.name in wanted]
+    for a in project.assertions:
+        if wanted is None or a.name in wanted:
+            yield check_assertion(project, a, bound, ranges, settings or {}, timeout, induction, shortest)
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges,

@@ -11,13 +11,15 @@ from rich.text import Text
 
 from tockbmc.bmc.result import Result
 
-VERDICT_STYLE = {"holds": "green", "violated": "bold red", "unknown": "yellow", "unsupported": "magenta"}
+VERDICT_STYLE = {"holds": "green", "violated": "bold red", "unknown": "yellow", "unsupported": "magenta",
+                 "interrupted": "yellow"}
 
 
 def summary(results: Iterable[Result]) -> dict[str, int]:
+    """How many of each verdict; "interrupted" (Ctrl-C) only when there are some."""
     counts = {"holds": 0, "violated": 0, "unknown": 0, "unsupported": 0}
     for r in results:
-        counts[r.verdict] += 1
+        counts[r.verdict] = counts.get(r.verdict, 0) + 1
     return counts
 
 
