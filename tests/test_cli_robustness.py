@@ -3,9 +3,12 @@ special files, Ctrl-C."""
 
 from __future__ import annotations
 
+import json
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -34,11 +37,16 @@ SIMULATE = ["simulate", EXAMPLE, "--element", "EXAX", "--steps", "12", "--range"
 def run_all(runs: list[tuple[list, dict]]) -> list[subprocess.CompletedProcess]:
     """Run `tockbmc` once per (arguments, Popen keywords), all at once; their outcomes in order."""
     procs = [subprocess.Popen([*TOCKBMC, *map(str, args)], stdout=kw.pop("stdout", subprocess.PIPE),
-                              stderr=subprocess.PIPE, text=True, **kw) for args, kw in runs]
+                              stderr=subprocess.PIPE, **{"text": True, **kw}) for args, kw in runs]
     out = []
-    for p in procs:
-        stdout, stderr = p.communicate(timeout=120)
-        out.append(subprocess.CompletedProcess(p.args, p.returncode, stdout, stderr))
+    try:
+        for p in procs:
+            stdout, stderr = p.communicate(timeout=120)
+            out.append(subprocess.CompletedProcess(p.args, p.returncode, stdout, stderr))
+    finally:  # none left running, whatever happened
+        for p in procs:
+            p.kill()
+            p.wait()
     return out
 
 
@@ -85,3 +93,71 @@ def test_special_files_are_refused_unopened(tmp_path: Path) -> None:
     assert f"{fifo}:1:1: error: not a regular file" in result.stderr
     with pytest.raises(ModelError, match="not a regular file"):
         load(os.devnull)
+
+
+# -------------------------------------------------------------------- Ctrl-C
+
+SLOW = {
+    "m.rct": """stm Quick {
+  initial i
+  final f
+  transition t0 { from i to f }
+}
+stm Hard {
+  var x : int
+  var y : int
+  initial i
+  state s {}
+  final f
+  transition t0 { from i to s }
+  transition t1 { from s to f condition x * x * x == 2 * y * y * y + 1 /\\ x > 1 /\\ y > 1 }
+}
+stm Count {
+  var n : int = 0
+  initial i
+  state s {}
+  final f
+  transition t0 { from i to s }
+  transition t1 { from s to s condition n < 100000000 action n = n + 1 }
+}
+""",
+    # Z3 spends minutes on Hard's cubic (no solution) and the explicit search on Count's hundred million
+    "m.assertions": "assertion Q1: Quick terminates.\nassertion H: Hard terminates.\nassertion C: Count terminates.\n"
+                    "assertion Q2: Quick terminates.\n",
+}
+
+
+def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) -> None:
+    """Ctrl-C during Z3's solving (BMC) and during the explicit search: within two seconds, exit
+    130 with the verdicts decided so far and the other assertions marked interrupted. Elsewhere
+    (loading, showing, simulating): "interrupted", exit 130, not click's "Aborted!" and 1."""
+    write_files(tmp_path, SLOW)
+    bmc = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2"]
+    explicit = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "C", "-a", "Q2", "--engine", "explicit", "--range",
+                "core_int=-1..1", "--max-states", "100000000", "--format", "json"]
+    simulate = ["simulate", tmp_path, "--element", "Count", "--steps", "100000000"]
+    procs = [subprocess.Popen([*TOCKBMC, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for args in (bmc, explicit, simulate)]
+    try:
+        time.sleep(4)  # started, Q1 decided, stuck in the second assertion
+        for p in procs:
+            p.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        (text, text_err), (data, data_err), (_, simulate_err) = (p.communicate(timeout=10) for p in procs)
+    finally:  # none left running, whatever happened
+        for p in procs:
+            p.kill()
+            p.wait()
+    assert time.monotonic() - sent < 2
+    assert [p.returncode for p in procs] == [130, 130, 130], text_err + data_err + simulate_err
+    rows = [line.split("│")[1:3] for line in text.splitlines() if line.startswith("│")]
+    assert [[c.strip() for c in row] for row in rows] == [["Q1", "holds"], ["H", "interrupted"],
+                                                          ["Q2", "interrupted"]]
+    assert "H: interrupted   assertion H: Hard terminates.\n  interrupted (Ctrl-C) before a verdict" in text
+    assert text_err == data_err == "tockbmc: interrupted\n"
+    results = json.loads(data)
+    assert [(r["assertion"], r["verdict"]) for r in results["results"]] == [
+        ("Q1", "holds"), ("C", "interrupted"), ("Q2", "interrupted")]
+    assert results["summary"] == {"holds": 1, "violated": 0, "unknown": 0, "unsupported": 0, "interrupted": 2,
+                                  "total": 3}
+    assert simulate_err.endswith("tockbmc: interrupted\n") and "Aborted" not in simulate_err

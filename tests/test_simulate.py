@@ -29,7 +29,12 @@ def test_the_default_element_of_the_example_runs_in_bounded_time_and_memory() ->
     runs = [subprocess.Popen([sys.executable, "-c", "from tockbmc.cli import main; main()", "simulate", str(EXAMPLE),
                               "--steps", "20", *ranges], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                              preexec_fn=limited) for ranges in ([], REALISTIC)]
-    (bare, bare_err), (realistic, realistic_err) = (p.communicate(timeout=60) for p in runs)
+    try:
+        (bare, bare_err), (realistic, realistic_err) = (p.communicate(timeout=60) for p in runs)
+    finally:  # none left running, whatever happened
+        for p in runs:
+            p.kill()
+            p.wait()
     assert [p.returncode for p in runs] == [0, 0], bare_err + realistic_err
     # The types it draws values of with no range say so (n_waypoints is a constant: RoboTool's default, 0).
     assert bare.startswith("a random run of main (seed 0; with no range given, core_int=-2..2, core_real=-2..2)")

@@ -9,7 +9,7 @@ replayed by the independent interpreter (`explicit.replay`) before it is returne
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import replace
 
 from tockbmc.bmc.engine import Outcome, Status
@@ -45,10 +45,19 @@ def check(project: ast.Project, names: Iterable[str] | None = None, bound: int =
     `tock`s) within the bound, rather than the first found, of fewest steps; it costs an unrolling
     to the bound.
     """
+    return list(iter_check(project, names, bound, ranges, settings, timeout, induction, shortest, config))
+
+
+def iter_check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
+               ranges: Ranges | None = None, settings: dict[str, ast.Expr] | None = None,
+               timeout: float | None = None, induction: bool = True, shortest: str = "steps",
+               config: Configuration | None = None) -> Iterator[Result]:
+    """`check`'s results one at a time, each as soon as it is decided."""
     config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [check_assertion(config.project, a, bound, config, timeout, induction, shortest)
-            for a in config.project.assertions if wanted is None or a.name in wanted]
+    for a in config.project.assertions:
+        if wanted is None or a.name in wanted:
+            yield check_assertion(config.project, a, bound, config, timeout, induction, shortest)
 
 
 class _Check:

@@ -2,19 +2,21 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
+import os
 import sys
 from collections.abc import Callable
-from typing import TypeVar
+from typing import NoReturn, TypeVar
 
 import click
 from rich.text import Text
 
 from tockbmc import __version__
-from tockbmc.check import DEFAULT_BOUND
-from tockbmc.check import check as run_check
+from tockbmc.check import DEFAULT_BOUND, iter_check
+from tockbmc.interrupt import decide, interrupted
 from tockbmc.model import ModelError, Project, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
@@ -28,6 +30,7 @@ from tockbmc.report.results import to_json as results_json
 from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
 
+EXIT_INTERRUPTED = 130
 EXIT_MODEL_ERROR = 3
 EXIT_INTERNAL_ERROR = 1
 
@@ -172,7 +175,8 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
-    unsupported, 2 usage error, 3 model error, 1 internal error.
+    unsupported, 2 usage error, 3 model error, 1 internal error, 130 interrupted (Ctrl-C: the
+    verdicts decided so far are printed).
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
@@ -188,21 +192,28 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
     if engine == "explicit":
-        from tockbmc.explicit.engine import check_explicit
+        from tockbmc.explicit.engine import iter_check_explicit
         from tockbmc.explicit.interpreter import Unbounded
         try:
-            results = check_explicit(project, names or None, bound, Ranges(), {}, timeout, max_states, config)
+            decided = decide(iter_check_explicit(project, names or None, bound, Ranges(), {}, timeout, max_states,
+                                                 config))
         except Unbounded as exc:
             raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
                                    f"(--range {exc.name}=LO..HI)") from None
     else:
-        results = run_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config)
+        decided = decide(iter_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config))
+    results = decided.results
+    if decided.interrupted:  # Ctrl-C: what was decided, then the rest as interrupted
+        seen = {r.assertion for r in results}
+        results = [*results, *(interrupted(a, config.ranges(), engine) for a in config.project.assertions
+                               if (not names or a.name in names) and a.name not in seen)]
     if report_path is not None:
         from tockbmc.report.html import write_report
         write_report(report_path, results, title=" ".join(paths), version=__version__)
     with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
         if fmt == "json":
-            click.echo(json.dumps(results_json(results, __version__), indent=2))
+            status = "interrupted" if decided.interrupted else "checked"
+            click.echo(json.dumps(results_json(results, __version__, status), indent=2))
         elif fmt == "itf":
             click.echo(json.dumps(itf.document(results, __version__), indent=2))
         elif fmt == "sarif":
@@ -212,6 +223,8 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         else:
             width = None if sys.stdout.isatty() else 160
             print_results(results, PipeConsole(width=width, soft_wrap=True))
+    if decided.interrupted:
+        _exit_interrupted(decided.worker_done)
     sys.exit(exit_code(r.verdict for r in results))
 
 
@@ -253,8 +266,10 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     def run() -> T:
         try:
             return command()
-        except (KeyboardInterrupt, SystemExit):
+        except SystemExit:
             raise
+        except KeyboardInterrupt:
+            _exit_interrupted()
         except RecursionError:
             click.echo("tockbmc: internal error: input nested too deeply", err=True)
             sys.exit(EXIT_INTERNAL_ERROR)
@@ -265,9 +280,33 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     return run
 
 
+def _exit_interrupted(clean: bool = True) -> NoReturn:
+    """Exit as interrupted (128 + SIGINT), at once if a worker thread may still be inside Z3."""
+    with reader_may_leave(sys.stderr):
+        click.echo("tockbmc: interrupted", err=True)
+    if clean:
+        sys.exit(EXIT_INTERRUPTED)
+    with contextlib.suppress(OSError):
+        sys.stdout.flush()
+        sys.stderr.flush()
+    os._exit(EXIT_INTERRUPTED)  # no interpreter shutdown under a thread that is still running Z3
+
+
+def _run() -> None:
+    """The click group, with Ctrl-C (outside `check`'s own handling) an interruption, not an error."""
+    try:
+        status = cli.main(standalone_mode=False)
+    except click.ClickException as exc:
+        exc.show()
+        sys.exit(exc.exit_code)
+    except click.Abort:  # click turns KeyboardInterrupt into Abort
+        _exit_interrupted()
+    sys.exit(status if isinstance(status, int) else 0)
+
+
 def main() -> None:
     """Console entry point."""
     for name in usable_streams():
         if name == "stdout":
             click.echo("tockbmc: standard output is closed: nothing is printed there", err=True)
-    _guarded(lambda: cli.main(standalone_mode=True))()
+    _guarded(_run)()

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import time
 from collections import deque
-from collections.abc import Callable, Hashable, Iterable
+from collections.abc import Callable, Hashable, Iterable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import cast
@@ -239,10 +239,18 @@ def check_explicit(project: ast.Project, names: Iterable[str] | None, bound: int
                    max_states: int = DEFAULT_MAX_STATES, config: Configuration | None = None) -> list[Result]:
     """One `Result` per selected assertion, by explicit search; raises `Unbounded` for a missing range.
     Ranges and constants come from `config`, else from `ranges` and `settings` as `check` reads them."""
+    return list(iter_check_explicit(project, names, bound, ranges, settings, timeout, max_states, config))
+
+
+def iter_check_explicit(project: ast.Project, names: Iterable[str] | None, bound: int, ranges: Ranges,
+                        settings: dict[str, ast.Expr], timeout: float | None,
+                        max_states: int = DEFAULT_MAX_STATES, config: Configuration | None = None) -> Iterator[Result]:
+    """`check_explicit`'s results one at a time, each as soon as it is decided."""
     config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
-    return [_check(config.project, a, bound, config, timeout, max_states)
-            for a in config.project.assertions if wanted is None or a.name in wanted]
+    for a in config.project.assertions:
+        if wanted is None or a.name in wanted:
+            yield _check(config.project, a, bound, config, timeout, max_states)
 
 
 def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,

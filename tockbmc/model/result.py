@@ -21,16 +21,19 @@ class Verdict(StrEnum):
     VIOLATED = "violated"
     UNKNOWN = "unknown"
     UNSUPPORTED = "unsupported"
+    INTERRUPTED = "interrupted"  # Ctrl-C came before a verdict
 
     @property
     def exit_code(self) -> int:
         """The exit status of a run whose worst verdict is this one."""
-        return {Verdict.HOLDS: 0, Verdict.VIOLATED: 10, Verdict.UNKNOWN: 20, Verdict.UNSUPPORTED: 20}[self]
+        return {Verdict.HOLDS: 0, Verdict.VIOLATED: 10, Verdict.UNKNOWN: 20, Verdict.UNSUPPORTED: 20,
+                Verdict.INTERRUPTED: 130}[self]
 
     @property
     def severity(self) -> int:
         """Which verdict decides a run's exit status: a violation over an unknown over a hold."""
-        return {Verdict.HOLDS: 0, Verdict.UNKNOWN: 1, Verdict.UNSUPPORTED: 1, Verdict.VIOLATED: 2}[self]
+        return {Verdict.HOLDS: 0, Verdict.UNKNOWN: 1, Verdict.UNSUPPORTED: 1, Verdict.VIOLATED: 2,
+                Verdict.INTERRUPTED: 3}[self]
 
     @property
     def opposite(self) -> Verdict:

@@ -16,7 +16,7 @@ from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.result import Result, Verdict
 
 VERDICT_STYLE = {Verdict.HOLDS: "green", Verdict.VIOLATED: "bold red", Verdict.UNKNOWN: "yellow",
-                 Verdict.UNSUPPORTED: "magenta"}
+                 Verdict.UNSUPPORTED: "magenta", Verdict.INTERRUPTED: "yellow"}
 
 
 def summary(results: Iterable[Result]) -> dict[str, int]:
