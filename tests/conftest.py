@@ -24,6 +24,20 @@ SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 CONFORMANCE = SHARED / "conformance" / "robochart-tests"
 EXAMPLE = REPO / "examples" / "intelliwelder"
 GENERATOR = REPO / "benchmarks" / "generate.py"
+# A counter: `tick` three times (an internal step after each adds one to `x`), then terminate.
+COUNTER = """\
+stm Counter {
+	var x : int = 0
+	event tick
+	initial i0
+	state S { }
+	final F
+	transition t0 { from i0 to S }
+	transition t1 { from S to S trigger tick condition x < 3 action x = x + 1 }
+	transition t2 { from S to F condition x == 3 }
+}
+"""
+
 DIFFERENTIAL = REPO / "benchmarks" / "differential_cases.py"
 
 

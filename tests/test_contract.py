@@ -8,22 +8,9 @@ from pathlib import Path
 
 import jsonschema
 import pytest
-from conftest import EXAMPLE, run_cli, write_files
+from conftest import COUNTER, EXAMPLE, run_cli, write_files
 
 from tockbmc.report.results import schema
-
-COUNTER = """\
-stm Counter {
-	var x : int = 0
-	event tick
-	initial i0
-	state S { }
-	final F
-	transition t0 { from i0 to S }
-	transition t1 { from S to S trigger tick condition x < 3 action x = x + 1 }
-	transition t2 { from S to F condition x == 3 }
-}
-"""
 
 
 def _validate(document: dict) -> None:

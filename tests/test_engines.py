@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 import z3
+from conftest import COUNTER
 
 from tockbmc import Project, load
 from tockbmc.bmc.engine import Status, bmc
@@ -28,18 +29,6 @@ from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Proof, Verdict
 from tockbmc.properties.goals import terminated
 
-COUNTER = """\
-stm Counter {
-	var x : int = 0
-	event tick
-	initial i0
-	state S { }
-	final F
-	transition t0 { from i0 to S }
-	transition t1 { from S to S trigger tick condition x < 3 action x = x + 1 }
-	transition t2 { from S to F condition x == 3 }
-}
-"""
 ASSERTIONS = """\
 assertion stops: Counter does not terminate.
 assertion free: Counter is deadlock-free.

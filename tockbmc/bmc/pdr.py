@@ -28,6 +28,7 @@ from multiprocessing.connection import Connection
 import z3
 
 from tockbmc.encodings.system import TransitionSystem
+from tockbmc.encodings.terms import subterms
 from tockbmc.encodings.values import leaves
 
 
@@ -44,18 +45,11 @@ def applicable(system: TransitionSystem, target: z3.BoolRef) -> str | None:
 
 def _outside(term: z3.ExprRef) -> str | None:
     """What in `term` Horn clauses over arithmetic cannot take: a quantifier or a function application."""
-    seen: set[int] = set()
-    stack = [term]
-    while stack:
-        t = stack.pop()
-        if t.get_id() in seen:
-            continue
-        seen.add(t.get_id())
+    for t in subterms(term):
         if z3.is_quantifier(t):
             return "the property quantifies over values"
         if z3.is_app(t) and t.decl().kind() == z3.Z3_OP_UNINTERPRETED and t.num_args() > 0:
             return f"the model calls function {t.decl().name()}, which has no body"
-        stack += t.children()
     return None
 
 

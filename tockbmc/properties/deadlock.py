@@ -16,6 +16,7 @@ import z3
 
 from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
+from tockbmc.encodings.terms import quantified
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.properties.goals import Goal, stuck, true_at
@@ -41,21 +42,7 @@ def _without_quantifier(formula: z3.BoolRef) -> z3.BoolRef:
     if len(result) != 1:
         return formula
     out = result[0].as_expr()
-    return formula if _quantified(out) else out
-
-
-def _quantified(term: z3.ExprRef) -> bool:
-    seen: set[int] = set()
-    stack = [term]
-    while stack:
-        t = stack.pop()
-        if t.get_id() in seen:
-            continue
-        seen.add(t.get_id())
-        if z3.is_quantifier(t):
-            return True
-        stack += t.children()
-    return False
+    return formula if quantified(out) else out
 
 
 def _nothing_ever_now(system: TransitionSystem) -> z3.BoolRef:
