@@ -23,6 +23,9 @@ from __future__ import annotations
 
 import multiprocessing
 import multiprocessing.process
+import os
+import threading
+import time
 from multiprocessing.connection import Connection
 
 import z3
@@ -56,6 +59,7 @@ def _outside(term: z3.ExprRef) -> str | None:
 def _solve(query: str, timeout: float | None, answer: Connection) -> None:
     """In a process of its own: solve the Horn query (SMT-LIB text) and send back ("proved", the
     invariant as an SMT-LIB term over the relation's arguments), ("reachable", "") or ("unknown", "")."""
+    _detach()
     try:
         solver = z3.SolverFor("HORN")
         if timeout is not None:
@@ -76,6 +80,22 @@ def _solve(query: str, timeout: float | None, answer: Connection) -> None:
             answer.send(("reachable" if result == z3.unsat else "unknown", ""))
     except Exception:  # noqa: BLE001 - any failure of the child is "no answer"
         answer.send(("unknown", ""))
+
+
+def _detach() -> None:
+    """In the child: let go of the terminal's streams (whoever reads the parent's output must see it
+    end when the parent does) and end when the parent ends, however it ends."""
+    devnull = os.open(os.devnull, os.O_RDWR)
+    for fd in (0, 1, 2):
+        os.dup2(devnull, fd)
+    parent = os.getppid()
+
+    def orphaned() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.2)
+        os._exit(0)
+
+    threading.Thread(target=orphaned, daemon=True).start()
 
 
 class Spacer:
