@@ -75,7 +75,7 @@ class _Check:
         self.consts: dict[str, ast.Expr] = {}
         self.start = time.perf_counter()
         self.reasons: list[str] = []  # what the goals searched so far have shown
-        self.proof = Proof.K_INDUCTION  # of a "holds": weakened to BOUNDED by the first goal shown only to the bound
+        self.proof = Proof.K_INDUCTION  # of a verdict that holds: weakened to BOUNDED by the first goal shown only to the bound
         self.depth: int | None = None  # the deepest depth a k-induction proof needed
         self.extra: dict[str, object] = {}  # what the goals searched so far add to the result
 

@@ -2,7 +2,7 @@
 
 `Verdict` and `Proof` are the contract's vocabulary.  A verdict carries the
 exit status it gives `tockbmc check` (as CrossHair's message types carry
-theirs); a proof kind says how far a "holds" reaches: up to the bound, or for
+theirs); a proof kind says how far a verdict that holds reaches: up to the bound, or for
 runs of every length (and by what argument).
 """
 

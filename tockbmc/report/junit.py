@@ -62,7 +62,7 @@ def _testcase(suite: ET.Element, classname: str, r: Result) -> None:
     case = ET.SubElement(suite, "testcase", classname=classname, name=r.assertion, time=f"{r.seconds:.3f}")
     reason = r.reason or ""
     if r.verdict == Verdict.VIOLATED:
-        failure = ET.SubElement(case, "failure", message=reason, type="violated")
+        failure = ET.SubElement(case, "failure", message=reason, type=Verdict.VIOLATED.value)
         failure.text = f"{r.text}\n{_trace_text(r)}" if r.trace else f"{r.text}\n{reason}"
     elif r.verdict == Verdict.UNKNOWN:
         error = ET.SubElement(case, "error", message=reason, type="unknown")
