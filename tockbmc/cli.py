@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import sys
 from collections.abc import Callable
 from fractions import Fraction
-from typing import TypeVar
+from typing import NoReturn, TypeVar
 
 import click
 from rich.text import Text
@@ -178,8 +179,8 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     results = decided.results
     if decided.interrupted:  # Ctrl-C: what was decided, then the rest as interrupted
         seen = {r.assertion for r in results}
-        results += [interrupted(a, ranges, engine) for a in project.assertions
-                    if (not names or a.name in names) and a.name not in seen]
+        results = [*results, *(interrupted(a, ranges, engine) for a in project.assertions
+                               if (not names or a.name in names) and a.name not in seen)]
     with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
         if fmt == "json":
             click.echo(json.dumps(results_json(results, __version__), indent=2))
@@ -234,7 +235,6 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
             raise
         except KeyboardInterrupt:
             _exit_interrupted()
-            raise  # not reached
         except RecursionError:
             click.echo("tockbmc: internal error: input nested too deeply", err=True)
             sys.exit(EXIT_INTERNAL_ERROR)
@@ -245,14 +245,15 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     return run
 
 
-def _exit_interrupted(clean: bool = True) -> None:
+def _exit_interrupted(clean: bool = True) -> NoReturn:
     """Exit as interrupted (128 + SIGINT), at once if a worker thread may still be inside Z3."""
     with reader_may_leave(sys.stderr):
         click.echo("tockbmc: interrupted", err=True)
     if clean:
         sys.exit(EXIT_INTERRUPTED)
-    sys.stdout.flush()
-    sys.stderr.flush()
+    with contextlib.suppress(OSError):
+        sys.stdout.flush()
+        sys.stderr.flush()
     os._exit(EXIT_INTERRUPTED)  # no interpreter shutdown under a thread that is still running Z3
 
 
