@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from decimal import Decimal
 from pathlib import Path
@@ -15,7 +15,7 @@ from conftest import run_cli, write_files
 
 from tockbmc import load
 from tockbmc.check import check
-from tockbmc.model.limits import MAX_CSP_NESTING, MAX_NESTING
+from tockbmc.model.limits import MAX_CSP_NESTING, MAX_DECLARATION_CHAIN, MAX_NESTING
 
 RANGE = ["--range", "core_int=-1..1", "--range", "core_real=-1..1"]
 
@@ -175,3 +175,36 @@ def test_bmc_of_nested_states_takes_no_stack_per_level(tmp_path: Path) -> None:
     with stack_of(120):
         [r] = check(loaded, bound=2)
     assert r.verdict == "holds"
+
+
+def record_chain(n: int) -> str:
+    """Record types R0 … Rn, each Ri's field of type Ri+1, and a machine sending an R0."""
+    types = "".join(f"datatype R{i} {{ f : R{i + 1} }}\n" for i in range(n)) + f"datatype R{n} {{ f : int }}\n"
+    return types + "stm M {\n  var x : R0\n  event e : R0\n  initial i\n  state s {}\n  transition t0 { from i to s action e!x }\n}\n"
+
+
+def function_chain(n: int) -> str:
+    """Functions f0 … fn, each fi defined by fi+1, and a machine sending f0(x)."""
+    functions = "".join(f"function f{i}(a : int) : int {{ postcondition result == f{i + 1}(a) + 1 }}\n" for i in range(n))
+    functions += f"function f{n}(a : int) : int {{ postcondition result == a }}\n"
+    return functions + ("stm M {\n  var x : int = 1\n  event e : int\n  initial i\n  state s {}\n"
+                        "  transition t0 { from i to s action e!f0(x) }\n}\n")
+
+
+@pytest.mark.parametrize("chain", [record_chain, function_chain])
+def test_declarations_chained_past_the_limit_are_diagnosed(tmp_path: Path, chain: Callable[[int], str]) -> None:
+    """A thousand record types inside each other, or functions each calling the next, crashed BMC
+    and the interpreter (recursion per link); past the limit, each link crossing it is an error."""
+    result = run_cli(["check", project(tmp_path, chain(1000))])
+    assert result.crash is None and result.exit_code == 3, result.output
+    errors = [line for line in result.stderr.splitlines() if ": error: " in line]
+    assert errors and all(f"through a chain of more than {MAX_DECLARATION_CHAIN} declarations" in e for e in errors)
+    assert f"m.rct:{MAX_DECLARATION_CHAIN + 1}:10: error: " in errors[0]  # the declaration the limit is crossed at
+
+
+@pytest.mark.parametrize("chain", [record_chain, function_chain])
+def test_declarations_chained_up_to_the_limit_run_everywhere(tmp_path: Path, chain: Callable[[int], str]) -> None:
+    path = project(tmp_path, chain(MAX_DECLARATION_CHAIN - 2))
+    for args in (["show", path, "--format", "json"], ["check", path, "-k", "2"], ["simulate", path, "--steps", "3"]):
+        result = run_cli(args)
+        assert result.crash is None and result.exit_code in (0, 10, 20), (args, result.output[-2000:])

@@ -20,6 +20,9 @@ MAX_NESTING = 500
 # Levels of a CSP block's syntax tree: each operator counts one. Lower, because the
 # specifications' process terms are compared and hashed recursively (three frames a level).
 MAX_CSP_NESTING = 200
+# Declarations resolved while resolving another (a record type's field of a record type, a function
+# called in a function's definition, …): walkers of types and calls recurse once per link.
+MAX_DECLARATION_CHAIN = 100
 
 
 def too_deep(tree: Tree, limit: int = MAX_NESTING) -> Tree | None:
