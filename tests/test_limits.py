@@ -208,3 +208,29 @@ def test_declarations_chained_up_to_the_limit_run_everywhere(tmp_path: Path, cha
     for args in (["show", path, "--format", "json"], ["check", path, "-k", "2"], ["simulate", path, "--steps", "3"]):
         result = run_cli(args)
         assert result.crash is None and result.exit_code in (0, 10, 20), (args, result.output[-2000:])
+
+
+def operation_chain(n: int) -> str:
+    """Operations O0 … On, each Oi calling Oi+1, run by a machine of controller C."""
+    out = ["interface I { " + " ".join(f"O{i}()" for i in range(n + 1)) + " }"]
+    out += [f"operation O{i}() {{\n  requires I\n  initial i\n  final f\n  transition t {{ from i to f action O{i + 1}() }}\n}}"
+            for i in range(n)]
+    out.append(f"operation O{n}() {{\n  initial i\n  final f\n  transition t {{ from i to f }}\n}}")
+    out.append("stm M {\n  requires I\n  initial i\n  state s { entry O0() }\n  transition t0 { from i to s }\n}")
+    out.append("controller C {\n  requires I\n  sref m = M\n" + "".join(f"  opref o{i} = O{i}\n" for i in range(n + 1)) + "}")
+    return "\n".join(out) + "\n"
+
+
+def test_operations_calling_operations_past_the_limit_are_unsupported(tmp_path: Path) -> None:
+    """Each call is inlined by a recursion: 300 deep crashed BMC; past the limit the assertion is
+    unsupported, at the call that crosses it; up to it, both engines decide it."""
+    deep = project(tmp_path / "deep", operation_chain(300), "assertion A: C is deadlock-free.\n")
+    result = run_cli(["check", deep, "-k", "2", "--format", "json"])
+    assert result.crash is None and result.exit_code == 20, result.output
+    [r] = json.loads(result.stdout)["results"]
+    assert r["verdict"] == "unsupported"
+    assert f"operations calling operations more than {MAX_DECLARATION_CHAIN} deep are not encoded" in r["reason"]
+    within = project(tmp_path / "within", operation_chain(MAX_DECLARATION_CHAIN - 2), "assertion A: C is deadlock-free.\n")
+    for engine in ("bmc", "explicit"):
+        result = run_cli(["check", within, "-k", "2", "--engine", engine, "--format", "json"])
+        assert result.crash is None and json.loads(result.stdout)["results"][0]["verdict"] == "violated", result.output
