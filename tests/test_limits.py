@@ -15,7 +15,7 @@ from conftest import run_cli, write_files
 
 from tockbmc import load
 from tockbmc.check import check
-from tockbmc.model.limits import MAX_CSP_NESTING, MAX_DECLARATION_CHAIN, MAX_NESTING
+from tockbmc.model.limits import MAX_CSP_NESTING, MAX_DECLARATION_CHAIN, MAX_NESTING, TOO_DEEP_TO_CHECK
 
 RANGE = ["--range", "core_int=-1..1", "--range", "core_real=-1..1"]
 
@@ -234,3 +234,18 @@ def test_operations_calling_operations_past_the_limit_are_unsupported(tmp_path: 
     for engine in ("bmc", "explicit"):
         result = run_cli(["check", within, "-k", "2", "--engine", engine, "--format", "json"])
         assert result.crash is None and json.loads(result.stdout)["results"][0]["verdict"] == "violated", result.output
+
+
+def test_csp_definitions_chained_hundreds_deep_are_unsupported(tmp_path: Path) -> None:
+    """P0 = P1, P1 = P2, …: evaluated by recursion, it crashed both engines; now that assertion is
+    unsupported and the others are still checked."""
+    chain = "\n".join(f"P{i} = P{i + 1}" for i in range(1000)) + "\nP1000 = M::e.out.1 -> P1000"
+    block = f"timed csp P0 csp-begin\nTimed(OneStep) {{\n{chain}\n}}\ncsp-end\n"
+    path = project(tmp_path, machine(), block + "assertion A: M refines P0 in the traces model.\n"
+                                                "assertion B: M is deadlock-free.\n")
+    for engine in ("bmc", "explicit"):
+        result = run_cli(["check", path, "-k", "3", "--engine", engine, "--format", "json", *RANGE])
+        assert result.crash is None and result.exit_code in (10, 20), result.output
+        a, b = json.loads(result.stdout)["results"]
+        assert a["verdict"] == "unsupported" and a["reason"] == TOO_DEEP_TO_CHECK
+        assert b["verdict"] in ("holds", "violated")

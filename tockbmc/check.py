@@ -13,6 +13,7 @@ from tockbmc.encodings.system import System, check_encodable
 from tockbmc.encodings.values import Ranges
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError
+from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.properties.inclusion import Following, TraceFollower, Unenumerable, included
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import Goal, NotSupported, Query, query
@@ -136,6 +137,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, ranges: 
         return result("unsupported", str(exc), searched=None)
     except (Unsupported, CspError) as exc:
         return result("unsupported", f"{exc.what} ({exc.pos})")
+    except RecursionError:
+        return result("unsupported", TOO_DEEP_TO_CHECK, searched=None)
     return result("holds", "; ".join(reasons))
 
 

@@ -24,6 +24,7 @@ from tockbmc.encodings.values import Ranges
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError
+from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, Unenumerable, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import NotSupported, Query, query
@@ -277,6 +278,8 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, ranges: Ranges, s
         return result("unsupported", str(exc))
     except (NotInterpretable, CspError) as exc:
         return result("unsupported", f"{exc.what} ({exc.pos})")
+    except RecursionError:
+        return result("unsupported", TOO_DEEP_TO_CHECK)
     except TimeoutError:
         return result("unknown", "timed out")
     except MemoryError:

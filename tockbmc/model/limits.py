@@ -62,3 +62,9 @@ def recursion_room(depth: int = 20_000) -> Iterator[None]:
         yield
     finally:
         sys.setrecursionlimit(limit)
+
+
+# An assertion whose check recursed past Python's limit anyway (a CSP process defined by a process
+# defined by …, hundreds deep, is evaluated by recursion) is reported with this reason.
+TOO_DEEP_TO_CHECK = ("nested too deeply to check: definitions defined through definitions, or operators inside "
+                     "operators, hundreds deep")
