@@ -3,18 +3,23 @@ special files, Ctrl-C."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
+from typing import TextIO
 
 import pytest
 from conftest import EXAMPLE, run_cli, write_files
 
 from tockbmc import ModelError, load
+from tockbmc.cli import main
 
 # -------------------------------------------------------------------- option values
 
@@ -34,65 +39,81 @@ SIMULATE = ["simulate", EXAMPLE, "--element", "EXAX", "--steps", "12", "--range"
             "core_real=-1..1"]
 
 
-def run_all(runs: list[tuple[list, dict]]) -> list[subprocess.CompletedProcess]:
-    """Run `tockbmc` once per (arguments, Popen keywords), all at once; their outcomes in order."""
-    procs = [subprocess.Popen([*TOCKBMC, *map(str, args)], stdout=kw.pop("stdout", subprocess.PIPE),
-                              stderr=subprocess.PIPE, **{"text": True, **kw}) for args, kw in runs]
-    out = []
+NARROW_MODEL = {"m.rct": "stm M {\n  initial i\n  state s {}\n  transition t0 { from i to s condition x } "
+                         "// début → fin\n}\n"}
+
+
+def run_main(args: list, stdout: TextIO | None, stderr: TextIO) -> int:
+    """Run the console entry point in this process with these standard streams; its exit status."""
+    saved = sys.argv, sys.stdout, sys.stderr
+    sys.argv, sys.stdout, sys.stderr = ["tockbmc", *map(str, args)], stdout, stderr  # type: ignore[assignment]
     try:
-        for p in procs:
-            stdout, stderr = p.communicate(timeout=120)
-            out.append(subprocess.CompletedProcess(p.args, p.returncode, stdout, stderr))
-    finally:  # none left running, whatever happened
-        for p in procs:
-            p.kill()
-            p.wait()
-    return out
+        main()
+    except SystemExit as exc:
+        return exc.code if isinstance(exc.code, int) else 0
+    finally:
+        sys.argv, sys.stdout, sys.stderr = saved
+    return 0
 
 
 def test_output_to_a_reader_that_left_is_dropped_and_the_status_kept() -> None:
     """`tockbmc … | head -1`, made certain: the pipe's reading end is closed before tockbmc writes."""
-    read, write = os.pipe()
-    os.close(read)
-    try:
-        show, simulate, check = run_all([(args, {"stdout": write}) for args in (["show", EXAMPLE], SIMULATE, SMALL_CHECK)])
-    finally:
-        os.close(write)
-    for result, status in ((show, 0), (simulate, 0), (check, 10)):
-        assert result.returncode == status and result.stderr == "", (result.args, result.stderr)
+    for args, status in ((["show", EXAMPLE], 0), (SIMULATE, 0), (SMALL_CHECK, 10)):
+        read, write = os.pipe()
+        os.close(read)
+        err = io.StringIO()
+        with open(write, "w") as pipe:
+            assert run_main(args, pipe, err) == status and err.getvalue() == "", (args, err.getvalue())
 
 
 def test_closed_stdout_prints_nothing_and_keeps_the_status() -> None:
-    """`tockbmc … >&-`: one line on stderr says so; the exit status is the command's own."""
-    closed = {"preexec_fn": lambda: os.close(1), "stdout": None}
-    show, check = run_all([(["show", EXAMPLE], dict(closed)), (SMALL_CHECK, dict(closed))])
-    for result, status in ((show, 0), (check, 10)):
-        assert result.returncode == status, (result.args, result.stderr)
-        assert result.stderr == "tockbmc: standard output is closed: nothing is printed there\n"
+    """`tockbmc … >&-`: one line on stderr says so; the exit status is the command's own. Once with
+    descriptor 1 really closed (apart), once with Python's `sys.stdout` None (here)."""
+    closed = subprocess.run([*TOCKBMC, *map(str, SMALL_CHECK)], stderr=subprocess.PIPE, text=True, timeout=120,
+                            preexec_fn=lambda: os.close(1))
+    err = io.StringIO()
+    for status, stderr in ((closed.returncode, closed.stderr), (run_main(["show", EXAMPLE], None, err), err.getvalue())):
+        assert status in (0, 10) and stderr == "tockbmc: standard output is closed: nothing is printed there\n"
+    assert closed.returncode == 10
 
 
 def test_symbols_a_narrow_encoding_lacks_are_spelt_in_ascii(tmp_path: Path) -> None:
     """With a Latin-1 terminal, `τ` is `tau`, `✓` is `tick`, `→` is `->`, in traces and diagnostics."""
-    write_files(tmp_path, {"m.rct": "stm M {\n  initial i\n  state s {}\n  transition t0 { from i to s condition x } "
-                                    "// début → fin\n}\n"})
-    latin = {"env": {**os.environ, "PYTHONIOENCODING": "latin-1"}, "encoding": "latin-1"}
-    check, bad = run_all([(SMALL_CHECK, dict(latin)), (["show", tmp_path], dict(latin))])
-    assert check.returncode == 10 and "internal error" not in check.stderr, check.stderr
-    assert "    1  tau  EXAX: wait_for_move" in check.stdout and "\n  -> EXAX has terminated" in check.stdout
-    assert bad.returncode == 3, bad.stderr
+    def latin() -> io.TextIOWrapper:
+        return io.TextIOWrapper(io.BytesIO(), encoding="latin-1")
+
+    def text(stream: io.TextIOWrapper) -> str:
+        stream.flush()
+        return stream.buffer.getvalue().decode("latin-1")  # type: ignore[attr-defined]
+
+    out, err = latin(), latin()
+    assert run_main(SMALL_CHECK, out, err) == 10, text(err)
+    assert "    1  tau  EXAX: wait_for_move" in text(out) and "\n  -> EXAX has terminated" in text(out)
+    out, err = latin(), latin()
+    assert run_main(["show", write_files(tmp_path, NARROW_MODEL)], out, err) == 3, text(err)
     assert "m.rct:4:41: error: unknown name 'x'\n    transition t0 { from i to s condition x } // début -> fin\n" \
-        in bad.stderr
+        in text(err)
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
 def test_special_files_are_refused_unopened(tmp_path: Path) -> None:
     fifo = tmp_path / "m.rct"
-    os.mkfifo(fifo)  # opening it would wait for a writer for ever: run it apart, with a time limit
-    result = subprocess.run([*TOCKBMC, "show", str(fifo)], capture_output=True, text=True, timeout=60)
-    assert result.returncode == 3, result.stderr
-    assert f"{fifo}:1:1: error: not a regular file" in result.stderr
-    with pytest.raises(ModelError, match="not a regular file"):
-        load(os.devnull)
+    os.mkfifo(fifo)
+    unblock = threading.Timer(10, _open_for_writing, [fifo])  # were it opened, the open would wait for a writer
+    unblock.start()
+    try:
+        err = io.StringIO()
+        assert run_main(["show", fifo], io.StringIO(), err) == 3, err.getvalue()
+        assert f"{fifo}:1:1: error: not a regular file" in err.getvalue()
+        with pytest.raises(ModelError, match="not a regular file"):
+            load(os.devnull)
+    finally:
+        unblock.cancel()
+
+
+def _open_for_writing(fifo: Path) -> None:
+    with contextlib.suppress(OSError):  # no reader waiting: nothing to unblock
+        os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
 
 
 # -------------------------------------------------------------------- Ctrl-C
@@ -127,6 +148,20 @@ stm Count {
 }
 
 
+def busy_for(pid: int, seconds: float) -> None:
+    """Wait until process `pid` has used `seconds` of processor time (a loaded machine takes longer)."""
+    stat = Path(f"/proc/{pid}/stat")
+    if not stat.exists():  # no /proc here: guess by the clock
+        time.sleep(3 * seconds)
+        return
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        fields = stat.read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK") >= seconds:
+            return
+        time.sleep(0.05)
+
+
 def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) -> None:
     """Ctrl-C during Z3's solving (BMC) and during the explicit search: within two seconds, exit
     130 with the verdicts decided so far and the other assertions marked interrupted. Elsewhere
@@ -139,7 +174,8 @@ def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) ->
     procs = [subprocess.Popen([*TOCKBMC, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
              for args in (bmc, explicit, simulate)]
     try:
-        time.sleep(4)  # started, Q1 decided, stuck in the second assertion
+        for p in procs:  # started, Q1 decided, stuck in the second assertion
+            busy_for(p.pid, 1.2)
         for p in procs:
             p.send_signal(signal.SIGINT)
         sent = time.monotonic()

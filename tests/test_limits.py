@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from decimal import Decimal
 from pathlib import Path
@@ -15,7 +15,7 @@ from conftest import run_cli, write_files
 
 from tockbmc import load
 from tockbmc.check import check
-from tockbmc.model.limits import MAX_CSP_NESTING, MAX_NESTING
+from tockbmc.model.limits import MAX_CSP_NESTING, MAX_DECLARATION_CHAIN, MAX_NESTING, TOO_DEEP_TO_CHECK
 
 RANGE = ["--range", "core_int=-1..1", "--range", "core_real=-1..1"]
 
@@ -175,3 +175,77 @@ def test_bmc_of_nested_states_takes_no_stack_per_level(tmp_path: Path) -> None:
     with stack_of(120):
         [r] = check(loaded, bound=2)
     assert r.verdict == "holds"
+
+
+def record_chain(n: int) -> str:
+    """Record types R0 … Rn, each Ri's field of type Ri+1, and a machine sending an R0."""
+    types = "".join(f"datatype R{i} {{ f : R{i + 1} }}\n" for i in range(n)) + f"datatype R{n} {{ f : int }}\n"
+    return types + "stm M {\n  var x : R0\n  event e : R0\n  initial i\n  state s {}\n  transition t0 { from i to s action e!x }\n}\n"
+
+
+def function_chain(n: int) -> str:
+    """Functions f0 … fn, each fi defined by fi+1, and a machine sending f0(x)."""
+    functions = "".join(f"function f{i}(a : int) : int {{ postcondition result == f{i + 1}(a) + 1 }}\n" for i in range(n))
+    functions += f"function f{n}(a : int) : int {{ postcondition result == a }}\n"
+    return functions + ("stm M {\n  var x : int = 1\n  event e : int\n  initial i\n  state s {}\n"
+                        "  transition t0 { from i to s action e!f0(x) }\n}\n")
+
+
+@pytest.mark.parametrize("chain", [record_chain, function_chain])
+def test_declarations_chained_past_the_limit_are_diagnosed(tmp_path: Path, chain: Callable[[int], str]) -> None:
+    """A thousand record types inside each other, or functions each calling the next, crashed BMC
+    and the interpreter (recursion per link); past the limit, each link crossing it is an error."""
+    result = run_cli(["check", project(tmp_path, chain(1000))])
+    assert result.crash is None and result.exit_code == 3, result.output
+    errors = [line for line in result.stderr.splitlines() if ": error: " in line]
+    assert errors and all(f"through a chain of more than {MAX_DECLARATION_CHAIN} declarations" in e for e in errors)
+    assert f"m.rct:{MAX_DECLARATION_CHAIN + 1}:10: error: " in errors[0]  # the declaration the limit is crossed at
+
+
+@pytest.mark.parametrize("chain", [record_chain, function_chain])
+def test_declarations_chained_up_to_the_limit_run_everywhere(tmp_path: Path, chain: Callable[[int], str]) -> None:
+    path = project(tmp_path, chain(MAX_DECLARATION_CHAIN - 2))
+    for args in (["show", path, "--format", "json"], ["check", path, "-k", "2"], ["simulate", path, "--steps", "3"]):
+        result = run_cli(args)
+        assert result.crash is None and result.exit_code in (0, 10, 20), (args, result.output[-2000:])
+
+
+def operation_chain(n: int) -> str:
+    """Operations O0 … On, each Oi calling Oi+1, run by a machine of controller C."""
+    out = ["interface I { " + " ".join(f"O{i}()" for i in range(n + 1)) + " }"]
+    out += [f"operation O{i}() {{\n  requires I\n  initial i\n  final f\n  transition t {{ from i to f action O{i + 1}() }}\n}}"
+            for i in range(n)]
+    out.append(f"operation O{n}() {{\n  initial i\n  final f\n  transition t {{ from i to f }}\n}}")
+    out.append("stm M {\n  requires I\n  initial i\n  state s { entry O0() }\n  transition t0 { from i to s }\n}")
+    out.append("controller C {\n  requires I\n  sref m = M\n" + "".join(f"  opref o{i} = O{i}\n" for i in range(n + 1)) + "}")
+    return "\n".join(out) + "\n"
+
+
+def test_operations_calling_operations_past_the_limit_are_unsupported(tmp_path: Path) -> None:
+    """Each call is inlined by a recursion: 300 deep crashed BMC; past the limit the assertion is
+    unsupported, at the call that crosses it; up to it, both engines decide it."""
+    deep = project(tmp_path / "deep", operation_chain(300), "assertion A: C is deadlock-free.\n")
+    result = run_cli(["check", deep, "-k", "2", "--format", "json"])
+    assert result.crash is None and result.exit_code == 20, result.output
+    [r] = json.loads(result.stdout)["results"]
+    assert r["verdict"] == "unsupported"
+    assert f"operations calling operations more than {MAX_DECLARATION_CHAIN} deep are not encoded" in r["reason"]
+    within = project(tmp_path / "within", operation_chain(MAX_DECLARATION_CHAIN - 2), "assertion A: C is deadlock-free.\n")
+    for engine in ("bmc", "explicit"):
+        result = run_cli(["check", within, "-k", "2", "--engine", engine, "--format", "json"])
+        assert result.crash is None and json.loads(result.stdout)["results"][0]["verdict"] == "violated", result.output
+
+
+def test_csp_definitions_chained_hundreds_deep_are_unsupported(tmp_path: Path) -> None:
+    """P0 = P1, P1 = P2, …: evaluated by recursion, it crashed both engines; now that assertion is
+    unsupported and the others are still checked."""
+    chain = "\n".join(f"P{i} = P{i + 1}" for i in range(1000)) + "\nP1000 = M::e.out.1 -> P1000"
+    block = f"timed csp P0 csp-begin\nTimed(OneStep) {{\n{chain}\n}}\ncsp-end\n"
+    path = project(tmp_path, machine(), block + "assertion A: M refines P0 in the traces model.\n"
+                                                "assertion B: M is deadlock-free.\n")
+    for engine in ("bmc", "explicit"):
+        result = run_cli(["check", path, "-k", "3", "--engine", engine, "--format", "json", *RANGE])
+        assert result.crash is None and result.exit_code in (10, 20), result.output
+        a, b = json.loads(result.stdout)["results"]
+        assert a["verdict"] == "unsupported" and a["reason"] == TOO_DEEP_TO_CHECK
+        assert b["verdict"] in ("holds", "violated")

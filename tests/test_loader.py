@@ -627,8 +627,6 @@ def test_machine_constant_defined_by_an_earlier_constant(tmp_path: Path) -> None
     assert b.initial.left.variable == a
 
 
-@pytest.mark.xfail(strict=True, reason="bug: a recursive function gives \"'fact' is defined in terms of itself\" "
-                   "and also \"unknown function 'fact'; did you mean 'fact'?\"")
 def test_recursive_function_is_not_called_unknown(tmp_path: Path) -> None:
     write_files(tmp_path, {"m.rct": "function fact(n : nat) : nat {\n"
                                     "  postcondition result == if n == 0 then 1 else n * fact(n - 1) end\n}\n"})

@@ -66,3 +66,29 @@ def test_no_initial_configuration_is_a_run_of_no_steps(tmp_path: Path) -> None:
     rct = "stm M {\n  var n : nat = 0 - 1\n  initial i\n  state s {}\n  transition t0 { from i to s }\n}\n"
     out, _ = simulate(write_files(tmp_path, {"m.rct": rct}), "--steps", "3")
     assert "M has no initial configuration" in out
+
+
+def test_an_operation_s_locals_are_drawn_from_not_listed(tmp_path: Path) -> None:
+    rct = """interface I { Op() }
+operation Op() {
+  var l : int
+  initial i
+  final f
+  transition t0 { from i to f action l = l + 1 }
+}
+stm M {
+  requires I
+  initial i
+  state s { entry Op() }
+  transition t0 { from i to s }
+  transition t1 { from s to s }
+}
+controller C {
+  requires I
+  sref m = M
+  opref o = Op
+}
+"""
+    wide = ["--range", "core_int=-1000000000000..1000000000000"]
+    out, seconds = simulate(write_files(tmp_path, {"m.rct": rct}), "--element", "C", "--steps", "8", *wide)
+    assert "M: call Op()" in out and "M: l := " in out and seconds < 10

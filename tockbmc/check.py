@@ -21,6 +21,7 @@ from tockbmc.encodings.system import TransitionSystem, check_encodable
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
@@ -113,6 +114,8 @@ class _Check:
                     return decided
         except Unsupported as exc:
             return self.unsupported(exc)
+        except RecursionError:
+            return self.unsupported(Unsupported(None, TOO_DEEP_TO_CHECK))  # the result carries the assertion's line
         return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
                            depth=self.bound if self.proof == Proof.BOUNDED else self.depth, extra=self.extra)
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 
 
 def entry_clock(state: str) -> str:
@@ -250,6 +251,9 @@ class _Builder:
                 if op is not None and op.qname in self.calls:
                     raise Unsupported(st.pos, f"operation {op.name} calls itself; recursive operations are not "
                                               "encoded")
+                if op is not None and len(self.calls) >= MAX_DECLARATION_CHAIN:  # inlining recurses per call
+                    raise Unsupported(st.pos, f"operations calling operations more than {MAX_DECLARATION_CHAIN} "
+                                              "deep are not encoded")
 
     def _definition(self, call: ast.OperationCall) -> ast.OperationDef | None:
         """The definition a call runs (inlined), or None for a platform operation (an event)."""

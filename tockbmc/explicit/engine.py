@@ -23,6 +23,7 @@ from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, 
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.goals import Query
@@ -294,6 +295,8 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
         return result(Verdict.UNSUPPORTED, exc.reason)
     except NotInterpretable as exc:
         return result(Verdict.UNSUPPORTED, f"{exc.what} ({exc.pos})")
+    except RecursionError:
+        return result(Verdict.UNSUPPORTED, TOO_DEEP_TO_CHECK)
     except TimeoutError:
         return result(Verdict.UNKNOWN, "timed out")
     except MemoryError:

@@ -1353,9 +1353,11 @@ class Interpreter:
         fixed = [(v, None) for v in locals_ if v.initial is not None]
         free = [v for v in locals_ if v.initial is None]
         paths = [(f"{self.insts[i].name}.{d.name}().{v.name}", f"{d.qname}::{v.name}") for v in free]
-        combos: Iterable[tuple] = itertools.product(*(self.domain(v.type, p) for v, p in zip(free, paths)))
+        combos: Iterable[tuple]
         if self.sampler is not None and math.prod(self._size(v.type, p) for v, p in zip(free, paths)) > self.sampler.size:
             combos = [tuple(self._draw(v.type, p) for v, p in zip(free, paths)) for _ in range(self.sampler.size)]
+        else:
+            combos = itertools.product(*(self.domain(v.type, p) for v, p in zip(free, paths)))
         for combo in combos:
             c2 = _Ctx(cfg.store, i, ctx.upd)
             for v, val in zip(free, combo, strict=True):

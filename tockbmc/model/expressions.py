@@ -283,6 +283,10 @@ class ExprChecker:
             return ast.Literal(ERROR, p, 0)
         name = qname_text(callee.children[0])
         function = self.scope.resolve_global(name, "function")
+        if isinstance(function, ast.ErrorType):  # a function that failed to resolve, reported at its declaration
+            for a in args_nodes:
+                self.expr(a)
+            return ast.Literal(ERROR, p, 0)
         if not isinstance(function, ast.Function):
             var = self.scope.variables.get(name)
             if var is not None:

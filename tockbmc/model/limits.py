@@ -20,6 +20,9 @@ MAX_NESTING = 500
 # Levels of a CSP block's syntax tree: each operator counts one. Lower, because the
 # specifications' process terms are compared and hashed recursively (three frames a level).
 MAX_CSP_NESTING = 200
+# Declarations resolved while resolving another (a record type's field of a record type, a function
+# called in a function's definition, …): walkers of types and calls recurse once per link.
+MAX_DECLARATION_CHAIN = 100
 
 
 def too_deep(tree: Tree, limit: int = MAX_NESTING) -> Tree | None:
@@ -59,3 +62,9 @@ def recursion_room(depth: int = 20_000) -> Iterator[None]:
         yield
     finally:
         sys.setrecursionlimit(limit)
+
+
+# An assertion whose check recursed past Python's limit anyway (a CSP process defined by a process
+# defined by …, hundreds deep, is evaluated by recursion) is reported with this reason.
+TOO_DEEP_TO_CHECK = ("nested too deeply to check: definitions defined through definitions, or operators inside "
+                     "operators, hundreds deep")

@@ -18,6 +18,7 @@ from tockbmc.model import ast
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import Diagnostic, suggestion
 from tockbmc.model.expressions import ExprChecker, Scope, pos_of
+from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 from tockbmc.model.scope import Declaration, FileScope, GlobalTable, qname_text
 
 T = TypeVar("T")
@@ -82,6 +83,10 @@ class Resolver:
             return self._memo[key]  # type: ignore[return-value]
         if key in self._in_progress:
             self.error(path, node, f"'{qname}' is defined in terms of itself")
+            return None
+        if len(self._in_progress) >= MAX_DECLARATION_CHAIN:  # each one waits for the next: a chain
+            self.error(path, node, f"'{qname}' is defined through a chain of more than {MAX_DECLARATION_CHAIN} "
+                                   "declarations (a record inside a record…, a function calling a function…)")
             return None
         self._in_progress.add(key)
         try:
@@ -189,7 +194,9 @@ class Resolver:
                 return self.type_decl(decl) if decl else None
             if kind == "function":
                 decl = self.table.lookup(scope, name, ("function_def",))
-                return self.function(decl) if decl else None
+                if decl is None:
+                    return None
+                return self.function(decl) or ERROR  # declared, but could not be resolved: reported there
             if kind == "operation":
                 decl = self.table.lookup(scope, name, ("operation_def",))
                 return self.operation(decl) if decl else None
