@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLE, run_cli, write_files
+from conftest import CONFORMANCE, EXAMPLE, run_cli, write_files
 
 import tockbmc
 from tockbmc.check import check
@@ -331,3 +331,22 @@ def test_text_output_states_each_range_and_constant_with_its_source() -> None:
                    "core_real=-1..1"])
     assert "ranges: core_int=0..2 [--range], core_real=-1..1 [--range]; constants: " \
            "EXAX::n_waypoints=0 [RoboTool default]" in out.stdout, out.stdout
+
+
+@pytest.mark.parametrize("path", ["C::x", "S1::x", "S2::x", "test8::CV::x"])
+def test_every_path_to_a_shared_variable_bounds_it_in_both_engines(path: str) -> None:
+    """`test8`'s controller variable `x` (interface CV, used by C, required by S1 and S2) is one
+    variable, whichever path names it.  BMC used to bound it only under `C::x` (which the
+    configuration refused) and the interpreter under `S1::x`, so `--range S1::x=0..0` ended in a
+    replay failure.  Pinned to 0, M still outputs `e1.0` first and A2 is still violated: M
+    terminates with S1, before S2's output (DESIGN.md, Conformance, test8)."""
+    case = CONFORMANCE / "robochart" / "test8"
+    for engine in ("bmc", "explicit"):
+        out = run_cli(["check", str(case), "-a", "A2", "--engine", engine, "--range", f"{path}=0..0",
+                       "--format", "json"])
+        assert out.exit_code == 10, out.output
+        [r] = json.loads(out.stdout)["results"]
+        assert r["ranges"]["test8::CV::x"] == "0..0", r["ranges"]
+        events = [s["event"] for s in r["trace"] if s["event"]]
+        assert events[0] == "M::e1.out.0" and events[-1] == "M::terminate", (engine, events)
+        assert engine == "explicit" or r["replayed"] == "yes"

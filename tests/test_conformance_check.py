@@ -26,7 +26,9 @@ DIFFERENCES = {
     ("test8", "A2"): (
         "violated", "controller variable x has no initial value: semantics.md §2.14 lets the environment choose "
                     "it (any value of core_nat=0..2), so M can output e1.1; RoboTool's memory starts it at nat's "
-                    "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes"),
+                    "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes; and with x at 0, M "
+                    "terminates with S1 (semantics.md §5.6: with its first machine) before S2's e2 output, "
+                    "where TSpec's SKIP follows e2 (RoboTool's M terminates with its last machine)"),
 }
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.

@@ -73,7 +73,7 @@ def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
             value = system.constants[c].get(id(v))
             if value is not None:  # keyed by declaration, as the configuration keys constants
                 out[declaration_key(v)] = python_value(value, model, v.type)
-    for base, (t, initial, _c) in system.initial.items():
+    for base, (t, initial, _c, _key) in system.initial.items():
         if initial is None:
             out[base] = python_value(u.value_at(system.value(base, t), 0), model, t)
     return out
@@ -162,7 +162,7 @@ def _changed(u: Unroller, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]
     out = {}
     before, after = u.frame(i), u.frame(i + 1)
     written = set(system.effect(m).post)
-    for base, (t, initial, _c) in system.initial.items():
+    for base, (t, initial, _c, _key) in system.initial.items():
         for path, _term in leaves(system.value(base, t)):
             name = base + path
             new = model.eval(after[name], model_completion=True)

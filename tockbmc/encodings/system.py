@@ -26,7 +26,7 @@ from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
 from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
 from tockbmc.model import ast
-from tockbmc.model.config import constant_setting
+from tockbmc.model.config import constant_setting, declaration_key
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
 
@@ -114,7 +114,7 @@ class TransitionSystem:
         self.constraints: list[z3.BoolRef] = []  # on constants: they hold at every step
         self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
-        self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int]] = {}  # slot -> (type, initial, component)
+        self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int, str]] = {}  # slot -> (type, initial, component, declaration)
         self._effects: dict[int, _Effect] = {}
         self._built: dict[str, z3.BoolRef] = {}
         self._declare()
@@ -287,7 +287,7 @@ class TransitionSystem:
                 slots[id(v)] = (base, v.type)
                 if base not in self.initial:
                     self._scalars(base, v.type)
-                    self.initial[base] = (v.type, decl.initial, c)
+                    self.initial[base] = (v.type, decl.initial, c, declaration_key(decl))
             self.slots[c] = slots
             self.constants[c] = consts
         for link in self.network.links:
@@ -304,7 +304,7 @@ class TransitionSystem:
         if expr is not None:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))
         else:
-            self.constraints += domain(value, v.type, self.ranges, name)
+            self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
         return value
 
     # ------------------------------------------------------------ moves
@@ -588,12 +588,12 @@ class TransitionSystem:
                    f[names.deadline(comp.name)] == 0]
             cs += [f[names.clock(comp.name, clock)] == 0 for clock in comp.automaton.clocks]
             cs += [f[names.armed(comp.name, td.transition)] == 0 for td in comp.automaton.trigger_deadlines]
-        for base, (t, initial, c) in self.initial.items():
+        for base, (t, initial, c, key) in self.initial.items():
             value = self.value(base, t)
             if initial is not None:
                 cs.append(equal(value, self.evaluator(c).value(initial)))
-            else:
-                cs += domain(value, t, self.ranges, base.replace(".", "::", 1) if "." in base else base)
+            else:  # ranges on variables are kept under the declaration's key (model/config.py)
+                cs += domain(value, t, self.ranges, key)
         for link in self.network.links:
             if link.asynchronous:
                 cs.append(z3.Not(f[names.buffer_full(link.index)]))

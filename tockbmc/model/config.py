@@ -243,6 +243,10 @@ def _walk(project: ast.Project) -> dict[str, list[Element]]:
 
 
 def _interface_constants(project: ast.Project, names: Iterable[str]) -> list[ast.Variable]:
+    return [v for v in _interface_variables(project, names) if v.constant]
+
+
+def _interface_variables(project: ast.Project, names: Iterable[str]) -> list[ast.Variable]:
     by_name = {i.qname: i for i in project.interfaces}
     by_short: dict[str, list[ast.Interface]] = defaultdict(list)
     for i in project.interfaces:
@@ -251,7 +255,7 @@ def _interface_constants(project: ast.Project, names: Iterable[str]) -> list[ast
     for n in names:
         iface = by_name.get(n) or (by_short[n][0] if len(by_short.get(n, [])) == 1 else None)
         if iface is not None:
-            out += [v for v in iface.variables if v.constant]
+            out += list(iface.variables)
     return out
 
 
@@ -393,7 +397,7 @@ class Names:
         if name in CORE_TYPES:
             return name, CORE_TYPES[name]
         if is_path(name):
-            return name, self._path_type(name)
+            return self._path_key(name), self._path_type(name)
         t = self.types.get(name)
         if t is None:
             hint = f"; did you mean 'core_{name}'?" if name in ("int", "nat", "real") else \
@@ -404,6 +408,19 @@ class Names:
             raise ConfigError(f"'{name}' is {kind}: ranges bound numbers (core_int, core_nat, core_real, "
                               "types declared with 'type', or paths to numeric fields)", "--range")
         return t.name, t
+
+    def _path_key(self, name: str) -> str:
+        """The key a range path is kept under.  A path to a variable or constant becomes its
+        declaration's key (`C::x`, `S1::x` and `CV::x` all name `pkg::CV::x`), which every engine
+        looks a variable's range up by; a path to an event is kept as given."""
+        head, dot, fields = name.partition(".")
+        owner, _, member = head.rpartition("::")
+        found = _unique(v for e in self.elements.get(owner, []) for v in _variables(self.project, e)
+                        if v.name == member)
+        is_event = any(member in {ev.name for ev in getattr(e, "events", ())} for e in self.elements.get(owner, []))
+        if len(found) != 1 or is_event:
+            return name
+        return f"{declaration_key(found[0])}{dot}{fields}"
 
     def _path_type(self, name: str) -> ast.Type:
         head, _, fields = name.partition(".")
@@ -440,23 +457,33 @@ class Names:
         return t
 
 
+def _variables(project: ast.Project, e: Element) -> list[ast.Variable]:
+    """The variables and constants an element holds: its own, and those of the interfaces it
+    requires, provides or uses (a controller's `uses` interface declares shared variables)."""
+    if isinstance(e, ast.Behaviour):
+        return [*e.variables, *e.interface_variables]
+    if isinstance(e, ast.Controller):
+        return [*e.variables, *_interface_variables(project, (*e.used_interfaces, *e.provided_interfaces))]
+    if isinstance(e, ast.Module):
+        return _variables(project, e.platform) if e.platform is not None else []
+    if isinstance(e, ast.RoboticPlatform):
+        return [*e.variables, *_interface_variables(project, e.provided_interfaces)]
+    if isinstance(e, ast.Interface):
+        return list(e.variables)
+    return []
+
+
 def _members(project: ast.Project, e: Element) -> dict[str, ast.Type | None]:
     out: dict[str, ast.Type | None] = {}
-    if isinstance(e, ast.Behaviour):
+    if isinstance(e, (ast.Behaviour, ast.Controller, ast.RoboticPlatform)):
         out.update({ev.name: ev.type for ev in e.events})
-        out.update({v.name: v.type for v in (*e.variables, *e.interface_variables)})
-    elif isinstance(e, ast.Controller):
-        out.update({ev.name: ev.type for ev in e.events})
-        out.update({v.name: v.type for v in e.variables})
     elif isinstance(e, ast.Module):
-        if e.platform is not None:
-            out.update(_members(project, e.platform))
+        out.update(_members(project, e.platform) if e.platform is not None else {})
         for c in e.connections:
             out.setdefault(c.source_event.name, c.source_event.type)
             out.setdefault(c.target_event.name, c.target_event.type)
-    elif isinstance(e, ast.RoboticPlatform):
-        out.update({ev.name: ev.type for ev in e.events})
-        out.update({v.name: v.type for v in e.variables})
+    for v in _variables(project, e):
+        out.setdefault(v.name, v.type)
     return out
 
 
