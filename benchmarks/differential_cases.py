@@ -121,7 +121,8 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
 
 def assertions_text(states: list[str], pick: Callable[[list], object]) -> str:
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
-             f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates"]
+             f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates",
+             "M is divergence-free"]
     return "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms))
 
 

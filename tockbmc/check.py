@@ -79,6 +79,8 @@ class _Check:
         self.proof = Proof.K_INDUCTION  # of a verdict that holds: weakened to BOUNDED by the first goal shown only to the bound
         self.depth: int | None = None  # the deepest depth a k-induction proof needed
         self.extra: dict[str, object] = {}  # what the goals searched so far add to the result
+        self.searched = False  # whether some goal was searched (rather than shown unreachable by abstraction)
+        self.abstracted = False
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(0.001, self.timeout - (time.perf_counter() - self.start))
@@ -116,6 +118,8 @@ class _Check:
             return self.unsupported(exc)
         except RecursionError:
             return self.unsupported(Unsupported(None, TOO_DEEP_TO_CHECK))  # the result carries the assertion's line
+        if self.abstracted and not self.searched and q.inclusion is None:
+            self.proof = Proof.ABSTRACTION
         return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
                            depth=self.bound if self.proof == Proof.BOUNDED else self.depth, extra=self.extra)
 
@@ -124,12 +128,17 @@ class _Check:
         system = TransitionSystem(network, self.ranges, consts, context=q.context)
         if goal.prepare is not None:
             goal.prepare(system)
-        if not goal.applies(system):
+        if not goal.applies(system):  # the target is unreachable at every length (e.g. data ignored, no cycle)
+            if goal.unreachable != Verdict.HOLDS:
+                return self.result(goal.unreachable, goal.skipped, proof=Proof.ABSTRACTION, depth=None)
             if goal.skipped:
                 self.reasons.append(goal.skipped)
+            self.abstracted = True
             return None
-        outcome = decide(system, goal.target, self.bound, self.time_left(), goal.stateless and self.induction,
-                         fewest_visible=self.shortest == "events")
+        self.searched = True
+        why_not = goal.unprovable(system) if goal.unprovable is not None else None
+        outcome = decide(system, goal.target, self.bound, self.time_left(),
+                         goal.stateless and self.induction and why_not is None, fewest_visible=self.shortest == "events")
         if outcome.status == Status.UNKNOWN:
             return self.result(Verdict.UNKNOWN, outcome.reason, proof=Proof.NONE, depth=outcome.depth)
         if outcome.status == Status.FOUND:
@@ -147,6 +156,8 @@ class _Check:
                 self.extra["invariant"] = outcome.invariant
         elif goal.not_found == Verdict.HOLDS:
             verdict, why, proof = Verdict.HOLDS, f"{goal.claim} within {self.bound} steps", Proof.BOUNDED
+            if why_not:
+                why = f"{why} ({why_not})"
         else:
             verdict, why = Verdict.UNKNOWN, f"not found within {self.bound} steps; a bounded search alone gives no verdict"
             proof = Proof.NONE

@@ -225,6 +225,51 @@ class Search:
         return None
 
 
+    def nearest_cycle(self, edge: Callable[[Step], bool]) -> Hashable | None:
+        """The explored node nearest the start (fewest visible steps) that lies on a cycle of steps
+        for which `edge` holds: the nodes of strongly connected components with a cycle (Tarjan's
+        algorithm, iteratively)."""
+        graph = {k: [n for s, n in succ if edge(s) and n in self.succ] for k, succ in self.succ.items()}
+        index: dict[Hashable, int] = {}
+        low: dict[Hashable, int] = {}
+        on_stack: set[Hashable] = set()
+        stack: list[Hashable] = []
+        cyclic: list[Hashable] = []
+        for root in graph:
+            if root in index:
+                continue
+            work = [(root, iter(graph[root]))]
+            index[root] = low[root] = len(index)
+            stack.append(root)
+            on_stack.add(root)
+            while work:
+                node, children = work[-1]
+                child = next(children, None)
+                if child is not None:
+                    if child not in index:
+                        index[child] = low[child] = len(index)
+                        stack.append(child)
+                        on_stack.add(child)
+                        work.append((child, iter(graph[child])))
+                    elif child in on_stack:
+                        low[node] = min(low[node], index[child])
+                    continue
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        x = stack.pop()
+                        on_stack.discard(x)
+                        component.append(x)
+                        if x == node:
+                            break
+                    if len(component) > 1 or node in graph[node]:
+                        cyclic += component
+        return min(cyclic, key=lambda k: self.depth[k], default=None)
+
+
 def _hidden_note(s: Step) -> str:
     return f"{s.event.name} (hidden)" if s.event is not None else ""
 
@@ -451,6 +496,15 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
         return done("no deadlock")
+    if kind == "divergence-free":
+        search.run(lambda key, succ: None)  # explore, then look for a cycle of internal steps
+        loop = search.nearest_cycle(lambda s: s.kind == "internal")
+        if loop is not None:
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                          f"{name} can repeat internal steps for ever (divergence)", search.trace(loop))
+        if negated:
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no divergence; {scope()}")
+        return done("no run repeats a configuration by internal steps alone")
     if kind == "reachable":
         state = a.subject
 

@@ -54,13 +54,14 @@ class Proof(StrEnum):
     K_INDUCTION = "k-induction"  # holds for runs of every length: the property is k-inductive
     INVARIANT = "invariant"  # holds for runs of every length: an inductive invariant (PDR) excludes a violation
     EXHAUSTIVE = "exhaustive"  # every reachable configuration was explored (explicit engine)
+    ABSTRACTION = "abstraction"  # holds for runs of every length: the model with its data ignored has no such run
     TRACE = "trace"  # decided by the trace shown (a counterexample or a witness)
     NONE = "none"  # undecided, or not checked
 
     @property
     def every_length(self) -> bool:
         """Whether the verdict covers runs of every length, not only those up to the bound."""
-        return self in (Proof.K_INDUCTION, Proof.INVARIANT, Proof.EXHAUSTIVE)
+        return self in (Proof.K_INDUCTION, Proof.INVARIANT, Proof.EXHAUSTIVE, Proof.ABSTRACTION)
 
 
 @dataclass(frozen=True)

@@ -203,6 +203,21 @@ class LoopWatch:
         return z3.And(f[names.LOOP_SAVED], *[f[n] == f[names.loop_copy(n)] for n in self.watched])
 
 
+def unbounded_loops(system: TransitionSystem) -> str | None:
+    """Why no lasso at any depth would not rule out divergence: with a number variable, an endless
+    run of internal steps need not repeat a configuration (`x = x + 1` for ever), so a proof that no
+    lasso is reachable proves nothing about divergence.  None when every variable has finitely
+    many values (booleans, enumerations), where an endless run must repeat one."""
+    if not any(isinstance(e, LoopWatch) for e in system.extensions):
+        return None  # no lasso is searched for: the data-free graph has no cycle of internal steps
+    numeric = sorted(base for base, (t, *_rest) in system.initial.items()
+                     if not (t == ast.BOOLEAN or isinstance(t, ast.EnumType)))
+    if not numeric:
+        return None
+    return (f"no proof for every length is attempted: {', '.join(numeric[:3])}{' …' if len(numeric) > 3 else ''} "
+            "can take ever new values, so an endless run of internal steps need not repeat a configuration")
+
+
 def watch_loops(system: TransitionSystem) -> None:
     if may_diverge(system) and not any(isinstance(e, LoopWatch) for e in system.extensions):
         system.add(LoopWatch(system))
@@ -218,10 +233,23 @@ def deadlocked(system: TransitionSystem) -> z3.BoolRef:
     return z3.Or(stuck(system), time_only(system), diverges(system))
 
 
+def _loop_start(unroller: Unroller, model: z3.ModelRef, k: int) -> int:
+    """The step after which a lasso found at step k starts: the copy is saved one step later."""
+    saved = unroller.system.cur[names.LOOP_SAVED]
+    return next((j - 1 for j in range(1, k + 1) if true_at(unroller, model, saved, j)), 0)
+
+
+def _describe_divergence(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+    start = _loop_start(unroller, model, k)
+    where = "the start" if start == 0 else f"step {start}"
+    return (f"{unroller.system.name} can repeat internal steps for ever (divergence): steps {start + 1}–{k} are "
+            f"internal and come back to the configuration after {where}, so they can be taken again and again")
+
+
 def _describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
     system = unroller.system
     if true_at(unroller, model, diverges(system), k):
-        return f"{system.name} can repeat internal steps for ever (divergence)"
+        return _describe_divergence(unroller, model, k)
     if true_at(unroller, model, system.tock_enabled(), k):
         return f"{system.name} offers nothing but tock, now and at every later time"
     return f"{system.name} has not terminated and refuses every event, tock included"
@@ -238,11 +266,26 @@ def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     length), then divergence (bounded: a lasso reads earlier configurations), which is searched only
     when some machine has a cycle of internal steps."""
     if negated:
-        return (Goal.witness(deadlocked, _describe, prepare=watch_loops,
+        return (Goal.witness(deadlocked, _describe, prepare=watch_loops, unprovable=unbounded_loops,
                              sought="a deadlock (refusal, time only, or divergence)"),)
     return (Goal.violation(stopped, _describe,
                            claim="no configuration refuses everything or offers only tock for ever"),
             Goal.violation(diverges, _describe, prepare=watch_loops,
                            claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
-                           skipped="no run can repeat internal steps for ever (even with data ignored, internal "
-                                   "steps form no cycle)"))
+                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops))
+
+
+NO_INTERNAL_CYCLE = ("no run can repeat internal steps for ever (even with data ignored, internal steps form no "
+                     "cycle)")
+
+
+def divergence_goals(name: str, negated: bool) -> tuple[Goal, ...]:
+    """`P is divergence-free` (docs/semantics.md §7): no reachable endless run of internal steps,
+    found as a lasso.  When the model with its data ignored has no cycle of internal steps
+    (`may_diverge`), no run of any length diverges and nothing is searched."""
+    if negated:
+        return (Goal.witness(diverges, _describe_divergence, prepare=watch_loops, applies=may_diverge,
+                             skipped=NO_INTERNAL_CYCLE, sought="a divergence", unprovable=unbounded_loops),)
+    return (Goal.violation(diverges, _describe_divergence, prepare=watch_loops,
+                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
+                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops),)

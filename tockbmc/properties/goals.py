@@ -43,6 +43,9 @@ class Goal:
     skipped: str = ""  # what not applying shows
     sought: str = "it"  # what the target is, for "no run of any length reaches …"
     prepare: Callable[[TransitionSystem], None] | None = None  # adds what the target needs (before the unrolling)
+    # Why the target's unreachability at every depth would not show the claim (so no proof is
+    # attempted and only the bounded search counts), or None when it would.
+    unprovable: Callable[[TransitionSystem], str | None] | None = None
 
     @staticmethod
     def violation(target: Target, describe: Describe, **more: object) -> Goal:

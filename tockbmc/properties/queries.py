@@ -15,7 +15,7 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.model.errors import Unsupported
-from tockbmc.properties.deadlock import deadlock_goals
+from tockbmc.properties.deadlock import deadlock_goals, divergence_goals
 from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
@@ -94,6 +94,8 @@ def _goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
         return (_negatable(a.negated, timelocked, _what_refuses, sought="a configuration that refuses tock"),)
     if a.kind == "deadlock-free":
         return deadlock_goals(name, a.negated)
+    if a.kind == "divergence-free":
+        return divergence_goals(name, a.negated)
     if a.kind == "reachable":
         entered = says(f"state {a.subject} is entered")
         if a.negated:
