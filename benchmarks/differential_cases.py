@@ -188,9 +188,10 @@ def _same_length(project: object, name: str, b: Result, e: Result,
     """Whether two counterexamples of one verdict have as many visible steps (None: not comparable)."""
     kinds = _deadlock_kind(b), _deadlock_kind(e)
     if kinds[0] != kinds[1]:
-        # Both engines find a deadlock, each by its own order of kinds (BMC: refusal or time only,
-        # then divergence; the explicit engine: refusal, then time only, then divergence).  Refusals
-        # alone are compared, lengths included, by `terminates`, whose violation is exactly one.
+        # Both engines find a deadlock, each by its own order of kinds (BMC: time only, then
+        # divergence, or both together for `is not deadlock-free`; the explicit engine: time only,
+        # then divergence).  Refusals of everything are compared, lengths included, by
+        # `terminates`, whose violation is exactly one.
         return True, f"deadlocks of different kinds ({kinds[0]}, {kinds[1]}): lengths not compared"
     vb, ve = _visible(b), _visible(e)
     note = ""

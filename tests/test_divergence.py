@@ -64,3 +64,15 @@ def test_a_divergence_that_never_repeats_is_not_proved_away(bmc: dict) -> None:
         r = bmc[name]
         assert r.verdict == Verdict.HOLDS and not r.proof.every_length, (name, r.proof, r.reason)
     assert bmc["U3"].verdict == Verdict.UNKNOWN
+
+
+def test_a_timelock_is_not_a_timed_deadlock() -> None:
+    """docs/semantics.md §7.2: a timed deadlock is a configuration from which time passes for ever
+    with nothing else offered (or a divergence).  Late's `wait(2) <{1}` refuses tock after one: a
+    timelock, refusing everything, from which no run of tocks goes on.  RoboTool's check (tock given
+    the lowest priority and hidden, then divergence-freedom) passes it too; both engines used to call
+    it a deadlock."""
+    project = tockbmc.load(Path(__file__).parent / "models" / "timelock")
+    for results in (check(project, bound=10), check_explicit(project, None, 8, None, {}, 20, 10_000)):
+        verdicts = {r.assertion: r.verdict for r in results}
+        assert verdicts == {"D1": Verdict.HOLDS, "D2": Verdict.VIOLATED, "T1": Verdict.VIOLATED}

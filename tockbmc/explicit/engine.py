@@ -481,16 +481,14 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
-    if kind == "deadlock-free":
-        hit = search.run(lambda key, succ: "stuck" if not succ and not terminated(key) else None)
-        why = f"{name} has not terminated and refuses every event, tock included"
-        if hit is None:  # time only for ever, or divergence, among the explored configurations
-            loop = search.time_only(lambda k: not terminated(k))
-            why = f"{name} offers nothing but tock, now and at every later time"
-            if loop is None:
-                loop = search.cycle(lambda s: s.kind == "internal", lambda k: True)
-                why = f"{name} can repeat internal steps for ever (divergence)"
-            hit = (loop, why) if loop is not None else None
+    if kind == "deadlock-free":  # time only for ever, or divergence; a refusal of everything is a timelock
+        search.run(lambda key, succ: None)
+        loop = search.time_only(lambda k: not terminated(k))
+        why = f"{name} offers nothing but tock, now and at every later time"
+        if loop is None:
+            loop = search.cycle(lambda s: s.kind == "internal", lambda k: True)
+            why = f"{name} can repeat internal steps for ever (divergence)"
+        hit = (loop, why) if loop is not None else None
         if hit is not None:
             return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
         if negated:

@@ -1,13 +1,15 @@
 """Timed deadlock (`docs/semantics.md` §7.2): what `P is deadlock-free` rules out.
 
-Three ways to be stuck, searched together so that the shortest comes first:
-- *refusal*: not terminated, and every event refused, `tock` included;
+Two ways to be deadlocked in time, searched together so that the shortest comes first:
 - *time only*: nothing but `tock` is possible, and nothing ever will be: no
   `wait` or deadline is running, and advancing every clock by any amount
   enables nothing (so only time passes, for ever);
 - *divergence*: a lasso of internal steps (the configuration repeats with
   nothing but internal steps in between).
-Termination is not a deadlock.
+Termination is not a deadlock, and neither is a configuration that refuses every event, `tock`
+included: no run of tocks goes on from it (it is a timelock, which `is timelock-free` finds).  This
+is RoboTool's check too: `tock` is given lower priority than every other event and hidden, and the
+result must be divergence-free, so only "time passes for ever and nothing else" counts.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import quantified
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
-from tockbmc.properties.goals import Goal, stuck, true_at
+from tockbmc.properties.goals import Goal, true_at
 
 
 def _nothing_ever(system: TransitionSystem) -> z3.BoolRef:
@@ -230,7 +232,7 @@ def diverges(system: TransitionSystem) -> z3.BoolRef:
 
 
 def deadlocked(system: TransitionSystem) -> z3.BoolRef:
-    return z3.Or(stuck(system), time_only(system), diverges(system))
+    return z3.Or(time_only(system), diverges(system))
 
 
 def _loop_start(unroller: Unroller, model: z3.ModelRef, k: int) -> int:
@@ -250,14 +252,12 @@ def _describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
     system = unroller.system
     if true_at(unroller, model, diverges(system), k):
         return _describe_divergence(unroller, model, k)
-    if true_at(unroller, model, system.tock_enabled(), k):
-        return f"{system.name} offers nothing but tock, now and at every later time"
-    return f"{system.name} has not terminated and refuses every event, tock included"
+    return f"{system.name} offers nothing but tock, now and at every later time"
 
 
 def stopped(system: TransitionSystem) -> z3.BoolRef:
-    """Refusal or time only: read only the configuration, so k-induction applies."""
-    return z3.Or(stuck(system), time_only(system))
+    """Time only: reads only the configuration, so k-induction applies."""
+    return time_only(system)
 
 
 def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
@@ -267,9 +267,9 @@ def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     when some machine has a cycle of internal steps."""
     if negated:
         return (Goal.witness(deadlocked, _describe, prepare=watch_loops, unprovable=unbounded_loops,
-                             sought="a deadlock (refusal, time only, or divergence)"),)
+                             sought="a deadlock (time only, or divergence)"),)
     return (Goal.violation(stopped, _describe,
-                           claim="no configuration refuses everything or offers only tock for ever"),
+                           claim="no configuration offers only tock for ever"),
             Goal.violation(diverges, _describe, prepare=watch_loops,
                            claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
                            skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops))
