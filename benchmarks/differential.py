@@ -2,7 +2,7 @@
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
-(benchmarks/differential_cases.py), with eight assertions of the supported forms, checked with
+(benchmarks/differential_cases.py), with nine assertions of the supported forms, checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
 `--timeout` seconds per assertion.  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that

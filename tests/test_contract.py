@@ -54,7 +54,7 @@ def test_a_model_error_is_a_json_document_with_diagnostics(tmp_path: Path) -> No
 
 def test_explicit_and_unsupported_results_validate(tmp_path: Path) -> None:
     write_files(tmp_path, {"c.rct": COUNTER, "c.assertions": "assertion a: Counter does not terminate.\n"
-                                                             "assertion b: Counter is deterministic.\n"})
+                                                             "untimed assertion b: Counter is deterministic.\n"})
     out = run_cli(["check", tmp_path, "--engine", "explicit", "--range", "core_int=-1..1", "--format", "json"])
     document = json.loads(out.stdout)
     _validate(document)
@@ -83,7 +83,7 @@ def test_a_model_without_assertions_gets_the_core_assertions(tmp_path: Path) -> 
     document = json.loads(out.stdout)
     _validate(document)
     verdicts = {r["assertion"]: r["verdict"] for r in document["results"]}
-    assert verdicts == {"Counter_deadlock_free": "holds", "Counter_deterministic": "unsupported",
+    assert verdicts == {"Counter_deadlock_free": "holds", "Counter_deterministic": "holds",
                         "Counter_divergence_free": "holds", "Counter_timelock_free": "violated"}
     assert "no assertions" in out.stderr and out.exit_code == 10
 

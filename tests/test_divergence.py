@@ -1,4 +1,4 @@
-"""`P is divergence-free` (docs/semantics.md §7): no reachable endless run of internal steps.
+"""`P is divergence-free` (docs/semantics.md §7.9): no reachable endless run of internal steps.
 
 A divergence is shown as a lasso (internal steps that come back to a configuration).  "Holds for
 every length" needs either the model with its data ignored to have no cycle of internal steps, or

@@ -12,6 +12,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import replace
 
+from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
 from tockbmc.bmc.engine import Outcome, Status
 from tockbmc.bmc.inclusion import included
 from tockbmc.bmc.portfolio import decide
@@ -24,12 +25,14 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import query
 
 DEFAULT_BOUND = 40
+SPLIT_DEPTH = 8  # steps of two runs searched from a configuration where the next step is open
 
 
 def check(project: ast.Project, names: Iterable[str] | None = None, bound: int = DEFAULT_BOUND,
@@ -106,6 +109,8 @@ class _Check:
             network = network_of(q.element, dict(q.defined))
             check_encodable(network)
             consts = self.consts = setup.constants
+            if q.determinism:
+                return self.deterministic(q, network, consts)
             for goal in q.goals:
                 decided = self.search(q, goal, network, consts)
                 if decided is not None:
@@ -189,6 +194,97 @@ class _Check:
             extra["shortest"] = outcome.reason
         return self.result(goal.found, why, proof=Proof.TRACE, depth=outcome.depth, trace=trace, extra=extra)
 
+    def deterministic(self, q: Query, network: Network, consts: dict[str, ast.Expr]) -> Result:
+        """`P is deterministic` (docs/semantics.md §7.10): no trace after which an event is both possible
+        and stably refused (two runs side by side, `bmc.determinism`), and no divergence (a divergent
+        process is not deterministic in the failures-divergences model, as FDR's check has it)."""
+        negated = self.a.negated
+        # First one run at a time: no configuration where the next visible event leaves the next step open.
+        local = decide(TransitionSystem(network, self.ranges, consts), locally_nondeterministic, self.bound,
+                       self.time_left(), self.induction)
+        if local.status == Status.UNKNOWN:
+            return self.result(Verdict.UNKNOWN, local.reason, proof=Proof.NONE, depth=local.depth)
+        if local.status == Status.PROVED:
+            self.proof = Proof.INVARIANT if local.method == "invariant" else Proof.K_INDUCTION
+            self.depth = local.depth
+            if local.invariant:
+                self.extra["invariant"] = local.invariant
+            self.reasons.append("no configuration leaves the next step open once the next event is known (two "
+                                "internal steps, an internal step beside an event, or one event two ways), shown for "
+                                f"runs of every length ({local.reason}), so two runs with one trace are one run")
+        elif local.status == Status.NOT_FOUND:
+            self.proof = Proof.BOUNDED
+            self.reasons.append(f"no configuration within {self.bound} steps leaves the next step open once the next "
+                                "event is known, so two runs with one trace are one run")
+        else:  # somewhere the next step is open: search pairs of runs for an event one does and the other refuses
+            pair = self.from_open_step(local, network, consts)
+            if pair is not None:
+                return self.nondeterministic(q, pair)
+            pair = nondeterminism(TransitionSystem(network, self.ranges, consts), self.bound, self.time_left())
+            if pair.status == Status.UNKNOWN:
+                return self.result(Verdict.UNKNOWN, pair.reason, proof=Proof.NONE, depth=pair.depth)
+            if pair.status == Status.FOUND:
+                return self.nondeterministic(q, pair)
+            self.reasons.append(f"no event is both possible and refused after the same trace within {self.bound} "
+                                "steps of two runs together")
+            self.proof = Proof.BOUNDED
+        for goal in q.goals:  # divergence
+            decided = self.search(q, goal, network, consts)
+            if decided is None:
+                continue
+            if decided.verdict == Verdict.VIOLATED and not negated:
+                return replace(decided, reason=f"{decided.reason}; a process that can diverge is not deterministic")
+            if decided.verdict == Verdict.HOLDS and negated:  # a divergence witnesses nondeterminism
+                return replace(decided, reason=f"{decided.reason}; a process that can diverge is not deterministic")
+            if negated:  # no divergence: that alone does not make it deterministic
+                return self.result(Verdict.UNKNOWN, "; ".join([*self.reasons, decided.reason or ""]) +
+                                   "; a bounded search alone gives no verdict", proof=Proof.NONE, depth=self.bound)
+            return decided
+        if negated:
+            return self.result(Verdict.UNKNOWN, "; ".join(self.reasons) + "; a bounded search alone gives no verdict",
+                               proof=Proof.NONE, depth=self.bound)
+        return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
+                           depth=self.bound if self.proof == Proof.BOUNDED else self.depth, extra=self.extra)
+
+    def from_open_step(self, local: Outcome, network: Network, consts: dict[str, ast.Expr]) -> Pair | None:
+        """Two runs that part where the run `local` found leaves the next step open, searched from
+        there (a few steps), with that run as their common prefix; None if they are not found so."""
+        u, model = local.unroller, local.model
+        assert u is not None and model is not None
+        if u.system.side:  # functions without a body: their values along the prefix are not pinned down
+            return None
+        system = TransitionSystem(network, self.ranges, consts)
+        left = self.time_left()
+        pair = nondeterminism(system, SPLIT_DEPTH, None if left is None else left / 2,
+                              configuration_of(u, model, local.depth))
+        if pair.status != Status.FOUND:
+            return None
+        pair.prefix = decode(u, model, local.depth)
+        pair.choices = initial_choices(u, model)
+        return pair
+
+    def nondeterministic(self, q: Query, pair: Pair) -> Result:
+        """Two runs with the same trace, one doing an event the other refuses: decoded, replayed."""
+        a, b, model = pair.a, pair.b, pair.model
+        assert a is not None and b is not None and model is not None
+        first = decode(a, model, pair.depth + 1)
+        second = decode(b, model, pair.depth)
+        run_a = [*pair.prefix, *(s for s, (moved, _) in zip(first, [*pair.moved, (True, False)], strict=True) if moved)]
+        run_b = [*pair.prefix, *(s for s, (_, moved) in zip(second, pair.moved, strict=True) if moved)]
+        trace = tuple(replace(s, step=j + 1) for j, s in enumerate(run_a))
+        other = tuple(replace(s, step=j + 1) for j, s in enumerate(run_b))
+        last = trace[-1]
+        stable = ", ".join(f"{m}: {st}" for m, st in (other[-1].states if other else trace[0].states).items())
+        before = [s.event for s in trace[:-1] if s.kind != "internal"]
+        after = f"the trace ⟨{', '.join(str(e) for e in before)}⟩" if before else "the empty trace"
+        why = (f"{q.element.name} is not deterministic: after {after}, one run can do {last.event} and another, "
+               f"stable in [{stable}], refuses it")
+        choices = pair.choices if pair.choices is not None else initial_choices(a, model)
+        replayed = replay_pair(q, trace, other, choices, self.ranges, self.consts)
+        verdict = Verdict.HOLDS if self.a.negated else Verdict.VIOLATED
+        return replace(self.result(verdict, why, proof=Proof.TRACE, depth=len(trace), trace=trace,
+                                   extra={"replayed": replayed}), other_trace=other)
+
     def follow(self, q: Query, network: Network, consts: dict[str, ast.Expr]) -> Result | None:
         """Every trace of the specification on the model's right is one of the model's."""
         assert q.context is not None and q.inclusion is not None
@@ -216,6 +312,40 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                     timeout: float | None, induction: bool = True, shortest: str = "steps") -> Result:
     """The verdict of one assertion: its goals searched in order (see `properties.goals.Query`)."""
     return _Check(a, bound, config, timeout, induction, shortest).run(project)
+
+
+def replay_pair(q: Query, trace: tuple, other: tuple, choices: dict[str, object], ranges: Ranges,
+                consts: dict[str, ast.Expr]) -> str:
+    """Replay a nondeterminism: the interpreter follows the first run to its last event, and the
+    second to a stable configuration that does not offer that event."""
+    from tockbmc.explicit.engine import python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
+    from tockbmc.explicit.replay import replay
+
+    last = trace[-1]
+
+    def refuses(config: object, steps: list) -> bool:
+        if any(s.kind == "internal" for s in steps):
+            return False
+        if last.kind == "tock":
+            return not any(s.kind == "tock" for s in steps)
+        return not any(s.event is not None and s.event.name == last.event for s in steps)
+
+    try:
+        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined))
+        replay(interp, trace, choices, None, lambda config, steps: True)
+        offered = _Offering(last)
+        replay(interp, other, choices, None, lambda config, steps: refuses(config, interp.steps(config, offered)))
+    except (NotInterpretable, Unbounded, Unsupported) as exc:
+        return f"no: {getattr(exc, 'what', None) or exc}"
+    return "yes"
+
+
+class _Offering(dict):  # type: ignore[type-arg]
+    """The environment's offer when asking whether a configuration refuses one event: its values."""
+
+    def __init__(self, step: TraceStep):
+        super().__init__({step.channel: step.values} if step.kind == "event" else {})
 
 
 def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,

@@ -659,6 +659,17 @@ class TransitionSystem:
                 cs.append(z3.Implies(self.act == later.index, z3.And([prev != i for i in earlier])))
         return cs
 
+    def footprint(self, m: Move) -> tuple[set[str], set[str]] | None:
+        """What move m reads and writes (not counting that every move reads `halted()`, which a
+        termination writes); None for `tock`, which touches every machine, and for the
+        environment's side of a buffer."""
+        if m.kind == "tock" or not m.parts:
+            return None
+        eff = self.effect(m)
+        if not eff.enabled or not eff.enabled[0].eq(z3.Not(self.halted())):
+            return None
+        return self._footprint(m)
+
     def _footprint(self, m: Move) -> tuple[set[str], set[str]]:
         """The scalars a move reads and those it writes.  Not reading `halted()`: no internal move
         makes a machine terminate (termination is a visible event), so it cannot change under one."""

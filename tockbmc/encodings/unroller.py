@@ -37,8 +37,9 @@ class _Renaming:
 class Unroller:
     """The steps of one unrolling of `system`: configurations, moves and chosen values by step."""
 
-    def __init__(self, system: TransitionSystem):
+    def __init__(self, system: TransitionSystem, tag: str = ""):
         self.system = system
+        self.tag = tag  # prefixed to every name: two unrollings of one system side by side (`bmc.determinism`)
         self._frames: list[dict[str, z3.ExprRef]] = []
         self._actions: list[z3.ArithRef] = []
         self._inputs: dict[tuple[str, int], Value] = {}
@@ -50,20 +51,20 @@ class Unroller:
         """The configuration at step k, as scalars by name."""
         while len(self._frames) <= k:
             i = len(self._frames)
-            self._frames.append({n: z3.Const(f"{n}@{i}", s) for n, s in self.system.sorts.items()})
+            self._frames.append({n: z3.Const(f"{self.tag}{n}@{i}", s) for n, s in self.system.sorts.items()})
         return self._frames[k]
 
     def action(self, k: int) -> z3.ArithRef:
         """The index of the move taken at step k."""
         while len(self._actions) <= k:
-            self._actions.append(z3.Int(f"act@{len(self._actions)}"))
+            self._actions.append(z3.Int(f"{self.tag}act@{len(self._actions)}"))
         return self._actions[k]
 
     def input(self, name: str, k: int) -> Value:
         """The value named `name` chosen during step k."""
         key = (name, k)
         if key not in self._inputs:
-            self._inputs[key] = fresh(f"{name}@{k}", self.system.inputs[name][0])
+            self._inputs[key] = fresh(f"{self.tag}{name}@{k}", self.system.inputs[name][0])
         return self._inputs[key]
 
     def at(self, term: z3.ExprRef, k: int) -> z3.ExprRef:

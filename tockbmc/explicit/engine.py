@@ -15,7 +15,7 @@ from __future__ import annotations
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import cast
 
@@ -494,6 +494,8 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
         return done("no deadlock")
+    if kind == "deterministic":
+        return _deterministic(search, name, negated, result)
     if kind == "divergence-free":
         search.run(lambda key, succ: None)  # explore, then look for a cycle of internal steps
         loop = search.nearest_cycle(lambda s: s.kind == "internal")
@@ -561,3 +563,76 @@ def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) ->
         channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
         out += [((channel, d), int(e.type is not None)) for d in ("in", "out")]
     return list(dict.fromkeys(out))
+
+
+def _label(step: Step) -> str:
+    return "tock" if step.kind == "tock" else step.event.name if step.event is not None else "?"
+
+
+def _deterministic(search: Search, name: str, negated: bool, result: Callable[..., Result]) -> Result:
+    """`P is deterministic` by subset construction: for each initial configuration (the values a run
+    starts from are the environment's choice, as in BMC's `bmc.determinism`), the sets of
+    configurations reachable after each trace; an event that one member offers and a stable member
+    refuses is a nondeterminism.  A divergence makes the process nondeterministic too."""
+    interp = search.interp
+    search.run(lambda key, succ: None)  # explore within the bound (and see whether that was everything)
+
+    def closure(nodes: Iterable[Hashable]) -> frozenset[Hashable]:
+        seen = set(nodes)
+        todo = list(seen)
+        while todo:
+            for step, nxt in search.steps(todo.pop()):
+                if step.kind == "internal" and nxt not in seen:
+                    if len(seen) >= search.max_states:
+                        raise MemoryError
+                    seen.add(nxt)
+                    todo.append(nxt)
+        return frozenset(seen)
+
+    def shown(trace: tuple[str, ...]) -> tuple[TraceStep, ...]:
+        return tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", "", {}, {}) for j, e in enumerate(trace))
+
+    for start in [(c, None) for c in interp.initial()]:
+        first = closure([start])
+        todo: deque[tuple[frozenset[Hashable], tuple[str, ...]]] = deque([(first, ())])
+        visited = {first}
+        while todo:
+            if search.deadline is not None and time.monotonic() > search.deadline:
+                raise TimeoutError
+            nodes, trace = todo.popleft()
+            offers = {n: {_label(st) for st, _ in search.steps(n) if st.kind != "internal"} for n in nodes}
+            everything = set().union(*offers.values())
+            for n in nodes:
+                if any(st.kind == "internal" for st, _ in search.steps(n)):
+                    continue  # not stable: it refuses nothing yet
+                refused = sorted(everything - offers[n])
+                if refused:
+                    event = refused[0]
+                    states = ", ".join(f"{m}: {st}" for m, st in interp.states(n[0]).items())  # type: ignore[index]
+                    after = f"the trace ⟨{', '.join(trace)}⟩" if trace else "the empty trace"
+                    why = (f"{name} is not deterministic: after {after}, one run can do {event} and another, "
+                           f"stable in [{states}], refuses it")
+                    r = result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, shown((*trace, event)))
+                    return replace(r, other_trace=shown(trace))
+            if len(trace) >= search.bound:
+                if everything:
+                    search.complete = False
+                continue
+            for event in sorted(everything):
+                successors = closure(nxt for n in nodes for st, nxt in search.steps(n)
+                                     if st.kind != "internal" and _label(st) == event)
+                if successors not in visited:
+                    visited.add(successors)
+                    todo.append((successors, (*trace, event)))
+    loop = search.nearest_cycle(lambda s: s.kind == "internal")
+    if loop is not None:
+        return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                      f"{name} can repeat internal steps for ever (divergence); a process that can diverge is not "
+                      "deterministic", search.trace(loop))
+    scope = ("every configuration reachable at any length was explored" if search.complete
+             else f"for every run of up to {search.bound} visible steps")
+    if negated:
+        return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN,
+                      f"no event is both possible and refused after the same trace, and no divergence; {scope}")
+    return result(Verdict.HOLDS, f"no event is both possible and refused after the same trace, and no divergence; "
+                                 f"{scope}")

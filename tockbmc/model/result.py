@@ -77,6 +77,10 @@ class TraceStep:
     source: str = ""  # where in the model the step comes from (`path:line:col` of a transition, statement…)
     free: tuple[str, ...] = ()  # for an input: the fields any value of which keeps the violation
 
+    def to_json(self) -> dict[str, Any]:
+        return {"step": self.step, "event": self.event, "kind": self.kind, "note": self.note, "states": self.states,
+                "changed": self.changed, "source": self.source or None, "free_fields": list(self.free)}
+
 
 @dataclass(frozen=True, kw_only=True)
 class Result:
@@ -95,14 +99,16 @@ class Result:
     extra: dict[str, Any] = field(default_factory=dict)
     constants: dict[str, str] = field(default_factory=dict)  # constant (owner::name) -> value, or "parameter (…)"
     sources: dict[str, dict[str, str]] = field(default_factory=dict)  # "ranges"/"constants" -> name -> source
+    # For a nondeterminism: the second run, with the visible events of `trace` but its last, ending
+    # stable where that last event is refused.
+    other_trace: tuple[TraceStep, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         return {
             "assertion": self.assertion, "text": self.text, "verdict": self.verdict.value,
             "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "constants": self.constants, "sources": self.sources, "engine": self.engine,
             "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
-            "trace": [{"step": s.step, "event": s.event, "kind": s.kind, "note": s.note, "states": s.states,
-                       "changed": s.changed, "source": s.source or None, "free_fields": list(s.free)}
-                      for s in self.trace],
+            "trace": [s.to_json() for s in self.trace],
+            **({"other_trace": [s.to_json() for s in self.other_trace]} if self.other_trace else {}),
             **self.extra,
         }

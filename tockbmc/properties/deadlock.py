@@ -280,7 +280,7 @@ NO_INTERNAL_CYCLE = ("no run can repeat internal steps for ever (even with data 
 
 
 def divergence_goals(name: str, negated: bool) -> tuple[Goal, ...]:
-    """`P is divergence-free` (docs/semantics.md §7): no reachable endless run of internal steps,
+    """`P is divergence-free` (docs/semantics.md §7.9): no reachable endless run of internal steps,
     found as a lasso.  When the model with its data ignored has no cycle of internal steps
     (`may_diverge`), no run of any length diverges and nothing is searched."""
     if negated:

@@ -71,6 +71,7 @@ class Query:
     settings: tuple[tuple[str, ast.Expr], ...] = ()  # constants set by `D__` arguments
     defined: tuple[tuple[str, ast.OperationDef], ...] = ()  # a machine in its controller: the operations it defines
     inclusion: Proc | None = None  # a specification every trace of which must be the element's
+    determinism: bool = False  # searched before the goals: two runs, one trace, an event offered and refused
     spec_name: str = ""
 
 

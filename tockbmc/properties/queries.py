@@ -79,6 +79,12 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
             raise Unsupported(None, f"'{subject}' runs a process after the model terminates; only refinement and "
                                "timelock-freedom checks support that")
         return _timelock_after(a, element, name, context, settings, _defined(project, impl))
+    if a.kind == "deterministic":
+        if context is not None:
+            raise Unsupported(None, f"'{subject}' puts the model in a CSP process; determinism is checked for model "
+                               "elements on their own")
+        return Query(assertion=a, element=element, goals=divergence_goals(name, a.negated), settings=settings,
+                     defined=_defined(project, impl), determinism=True)
     return Query(assertion=a, element=element, goals=_goals(a, name), context=context, settings=settings,
                  defined=_defined(project, impl))
 

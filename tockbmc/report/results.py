@@ -114,7 +114,17 @@ def where(position: str) -> str:
 
 
 def print_trace(r: Result, console: Console) -> None:
-    for s in r.trace:
+    if r.other_trace:
+        console.print(Text("  one run:", style="dim"))
+    _print_steps(r.trace, console)
+    if r.other_trace:
+        console.print(Text("  another run, with the same events before the last:", style="dim"))
+        _print_steps(r.other_trace, console)
+    _print_end(r, console)
+
+
+def _print_steps(trace: tuple, console: Console) -> None:
+    for s in trace:
         line = Text(f"  {s.step:>3}  ")
         if s.kind == "internal":
             line.append(f"τ  {s.note}", style="dim")
@@ -130,6 +140,9 @@ def print_trace(r: Result, console: Console) -> None:
         if s.source:
             line.append(f"   @ {where(s.source)}", style="dim")
         console.print(line)
+
+
+def _print_end(r: Result, console: Console) -> None:
     console.print(Text(f"  → {r.reason}", style="bold"))
     last = next((s.source for s in reversed(r.trace) if s.source), "")
     if r.pos or last:
