@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import importlib.util
 import json
 import math
 import os
@@ -12,20 +13,24 @@ from collections.abc import Callable
 from typing import NoReturn, TypeVar
 
 import click
+from rich.console import Console
 from rich.text import Text
 
 from tockbmc import __version__
-from tockbmc.check import DEFAULT_BOUND, iter_check
-from tockbmc.interrupt import decide, interrupted
+from tockbmc.check import DEFAULT_BOUND
+from tockbmc.explicit.interpreter import Unbounded
+from tockbmc.interrupt import Decided, decide, interrupted
 from tockbmc.model import ModelError, Project, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
 from tockbmc.model.limits import recursion_room
-from tockbmc.model.ranges import Range, Ranges
-from tockbmc.model.result import exit_code
+from tockbmc.model.ranges import Range
+from tockbmc.model.result import Result, exit_code
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
-from tockbmc.report.results import print_results, print_trace
+from tockbmc.report.progress import ProgressDisplay
+from tockbmc.report.results import ResultTable, print_details, print_trace
 from tockbmc.report.results import to_json as results_json
 from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
@@ -169,9 +174,16 @@ def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> 
 @click.option("--report", "report_path", type=click.Path(dir_okay=False, writable=True), default=None,
               metavar="FILE.html", help="Also write the results as one self-contained HTML page: the verdict table, "
                                         "the scope, and each trace as a sequence diagram beside its steps.")
+@click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
+              help="Decide the assertions in N worker processes (default: one per core); 1 decides them in this "
+                   "process.  The results and their order are the same.")
+@click.option("--dask", "dask_address", default=None, metavar="ADDRESS",
+              help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
+                   "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
           set_specs: tuple[str, ...], param_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str,
-          max_states: int, shortest: str, core: bool, report_path: str | None) -> None:
+          max_states: int, shortest: str, core: bool, report_path: str | None, jobs: int | None,
+          dask_address: str | None) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -180,6 +192,11 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
+    if dask_address is not None:
+        if jobs is not None:
+            raise click.UsageError("--dask and -j/--jobs exclude each other: the cluster's workers decide")
+        if importlib.util.find_spec("distributed") is None:
+            raise click.UsageError("--dask needs Dask's distributed scheduler: pip install 'tockbmc[dask]'")
     project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
@@ -191,22 +208,10 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         if n not in known:
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
-    if engine == "explicit":
-        from tockbmc.explicit.engine import iter_check_explicit
-        from tockbmc.explicit.interpreter import Unbounded
-        try:
-            decided = decide(iter_check_explicit(project, names or None, bound, Ranges(), {}, timeout, max_states,
-                                                 config))
-        except Unbounded as exc:
-            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
-                                   f"(--range {exc.name}=LO..HI)") from None
-    else:
-        decided = decide(iter_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config))
-    results = decided.results
-    if decided.interrupted:  # Ctrl-C: what was decided, then the rest as interrupted
-        seen = {r.assertion for r in results}
-        results = [*results, *(interrupted(a, config.ranges(), engine) for a in config.project.assertions
-                               if (not names or a.name in names) and a.name not in seen)]
+    selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
+    labels = [config.project.assertions[i].name for i in selected]
+    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, labels, fmt,
+                               jobs, dask_address)
     if report_path is not None:
         from tockbmc.report.html import write_report
         write_report(report_path, results, title=" ".join(paths), version=__version__)
@@ -221,11 +226,72 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         elif fmt == "junit":
             click.echo(junit.report(results))
         else:
-            width = None if sys.stdout.isatty() else 160
-            print_results(results, PipeConsole(width=width, soft_wrap=True))
+            print_details(results, _stdout_console())
     if decided.interrupted:
         _exit_interrupted(decided.worker_done)
     sys.exit(exit_code(r.verdict for r in results))
+
+
+def _stdout_console() -> PipeConsole:
+    # A pipe or a CI log has no width: a wide one, so that rows are not wrapped.
+    return PipeConsole(width=None if sys.stdout.isatty() else 160, soft_wrap=True)
+
+
+def _decide(job: Job, selected: list[int], labels: list[str], fmt: str, jobs: int | None,
+            dask_address: str | None) -> tuple[list[Result], Decided]:
+    """Decide the assertions `selected` (indices in the project), in this process, in `jobs` processes or on
+    a Dask cluster, with a progress display on a terminal's stderr and, in text, each row of the table printed
+    as soon as the rows before it are in.  The results, in the order of `selected` (the assertions Ctrl-C
+    stopped `interrupted`), and how the drawing ended."""
+    position = {i: n for n, i in enumerate(selected)}
+    display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if sys.stderr.isatty() else None
+
+    def progress(i: int, depth: int | None) -> None:
+        assert display is not None
+        if depth is None:
+            display.started(position[i])
+        else:
+            display.reached(position[i], depth)
+
+    told = progress if display is not None else None
+    workers = jobs if jobs is not None else os.cpu_count() or 1
+    runner: InProcess | InProcesses | OnDask
+    if dask_address is not None:
+        runner = OnDask(job, selected, dask_address, told)
+    elif workers == 1 or len(selected) <= 1:
+        runner = InProcess(job, selected, told)
+    else:
+        runner = InProcesses(job, selected, workers, told)
+    table = None
+    if fmt == "text":
+        pause = display.paused if display is not None and sys.stdout.isatty() else contextlib.nullcontext
+        table = ResultTable(_stdout_console(), labels, explicit=job.engine == "explicit", pause=pause)
+
+    def show(item: tuple[int, Result]) -> None:
+        i, r = item
+        if display is not None:
+            display.decided(position[i], r)
+        if table is not None:
+            with reader_may_leave(sys.stdout):
+                table.add(position[i], r)
+
+    with display or contextlib.nullcontext():
+        try:
+            decided = decide(runner, on_item=show, stop=runner.stop)
+        except Unbounded as exc:
+            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
+                                   f"(--range {exc.name}=LO..HI)") from None
+    by_position = {position[i]: r for i, r in decided.results}
+    assertions = job.config.project.assertions
+    ranges = job.config.ranges()
+    results = [by_position.get(n) or interrupted(assertions[i], ranges, job.engine) for n, i in enumerate(selected)]
+    if table is not None:
+        for n, r in enumerate(results):
+            if n not in by_position:
+                table.results[n] = r
+        with reader_may_leave(sys.stdout):
+            table.finish()
+    return results, decided
 
 
 @cli.command()

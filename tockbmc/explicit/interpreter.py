@@ -120,6 +120,10 @@ class Unbounded(Exception):
         self.name = name
         self.path = path
 
+    def __reduce__(self) -> tuple[type[Unbounded], tuple[str, str | None]]:
+        """Rebuilt from its name and path (a worker process of `check -j` raises it in the parent)."""
+        return Unbounded, (self.name, self.path)
+
 
 class NotInterpretable(Exception):
     """A construct the interpreter does not handle, at `pos`."""
