@@ -60,10 +60,13 @@ def test_the_engines_report_each_depth_they_clear_from_worker_processes(tmp_path
     project = load(counter_project(tmp_path))
     job = Job(configure(project), bound=12)
     seen: dict[str, list[tuple[int, int | None]]] = {}
-    for name, runner in (("here", InProcess), ("workers", InProcesses)):
+    work = [(job, 0), (job, 1), (job, 2)]
+    for name in ("here", "workers"):
         told: list[tuple[int, int | None]] = []
-        args = (job, [0, 1, 2], 2) if runner is InProcesses else (job, [0, 1, 2])
-        decided = dict(runner(*args, progress=lambda i, d, told=told: told.append((i, d))))  # type: ignore[operator]
+        def tell(n: int, depth: int | None, told: list = told) -> None:
+            told.append((n, depth))
+
+        decided = dict(InProcess(work, tell) if name == "here" else InProcesses(work, 2, tell))
         assert [decided[i].verdict for i in range(3)] == ["holds", "holds", "violated"]
         assert decided[2].depth == 9
         seen[name] = told
@@ -133,17 +136,13 @@ def test_rows_stream_and_ctrl_c_ends_the_workers_and_their_spacer_children(tmp_p
     assert [pid for pid in below if running(pid)] == []
 
 
-def test_progress_is_shown_on_a_terminal_and_not_in_a_log(tmp_path: Path) -> None:
-    """With stderr a terminal, the display names the assertion and the depth its search has cleared;
-    with stderr a pipe, stderr stays empty.  The table on stdout is the same either way."""
-    project = write_files(tmp_path, {"c.rct": COUNTER.replace("x < 3", "x < 400").replace("x == 3", "x == 400"),
-                                     "c.assertions": "assertion Slow: Counter does not terminate.\n"})
-    args = [*TOCKBMC, "check", str(project), "-k", "20", "-j", "1"]  # about a second, depth after depth
+def on_terminal(args: list[str], stdout: Any) -> str:
+    """What `args` writes on stderr when stderr is a terminal (stdout goes to `stdout`)."""
     leader, follower = pty.openpty()
+    p = subprocess.Popen(args, stdout=stdout, stderr=follower)
+    os.close(follower)
+    screen = b""
     try:
-        p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=follower, text=True)
-        os.close(follower)
-        screen = b""
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline:
             ready, _, _ = select.select([leader], [], [], 10)
@@ -154,17 +153,29 @@ def test_progress_is_shown_on_a_terminal_and_not_in_a_log(tmp_path: Path) -> Non
             if not chunk:
                 break
             screen += chunk
-        out, _ = p.communicate(timeout=60)
+        p.wait(timeout=60)
     finally:
         os.close(leader)
         p.kill()
         p.wait()
-    shown = screen.decode("utf-8", "replace")
+    return screen.decode("utf-8", "replace")
+
+
+def test_progress_is_shown_on_a_terminal_and_not_in_a_log(tmp_path: Path) -> None:
+    """With stderr a terminal, the display names the assertion and the depth its search has cleared;
+    with stderr a pipe, stderr stays empty, and so it does when the text table goes down a pipe (whose
+    reader may write it on the terminal under the display).  The table is the same either way."""
+    project = write_files(tmp_path, {"c.rct": COUNTER.replace("x < 3", "x < 400").replace("x == 3", "x == 400"),
+                                     "c.assertions": "assertion Slow: Counter does not terminate.\n"})
+    args = [*TOCKBMC, "check", str(project), "-k", "20", "-j", "1"]  # about a second, depth after depth
+    with (tmp_path / "out.txt").open("w") as out:
+        shown = on_terminal(args, out)
     assert "Slow" in shown and re.search(r"depth \d+ of 20", shown) and "none decided yet" in shown, shown[-2000:]
     logged = subprocess.run(args, capture_output=True, text=True, timeout=120)
     assert logged.stderr == ""
-    rows = [[c.strip() for c in line.split("│")[1:3]] for line in (out, logged.stdout) for line in line.splitlines()
-            if line.startswith("│")]
+    assert on_terminal([*args[:-4], "-k", "2"], subprocess.PIPE) == ""
+    rows = [[c.strip() for c in line.split("│")[1:3]] for text in ((tmp_path / "out.txt").read_text(), logged.stdout)
+            for line in text.splitlines() if line.startswith("│")]
     assert rows == [["Slow", "holds"], ["Slow", "holds"]]
 
 
@@ -176,13 +187,13 @@ def test_dask_gives_the_results_of_one_process(tmp_path: Path) -> None:
         on_dask = run_cli(["check", project, "--dask", cluster.scheduler_address, "--format", "json", "-k", "12"])
         job = Job(configure(load(project)), bound=12)
         told: list[tuple[int, int | None]] = []
-        decided = dict(OnDask(job, [2], cluster.scheduler_address, lambda i, d: told.append((i, d))))
+        decided = dict(OnDask([(job, 2)], cluster.scheduler_address, lambda n, d: told.append((n, d))))
     here = run_cli(["check", project, "-j", "1", "--format", "json", "-k", "12"])
     assert on_dask.crash is None and on_dask.exit_code == here.exit_code == 10, on_dask.output
     a, b = json.loads(here.stdout), json.loads(on_dask.stdout)
     assert comparable(a.pop("results")) == comparable(b.pop("results"))
     assert a == b
-    assert decided[2].verdict == "violated" and told == [(2, None), *((2, d) for d in range(9))]
+    assert decided[0].verdict == "violated" and told == [(0, None), *((0, d) for d in range(9))]
 
 
 def test_dask_without_dask_installed_is_a_usage_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -5,9 +5,11 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import importlib.util
+import io
 import json
 import math
 import os
+import stat
 import sys
 from collections.abc import Callable
 from typing import NoReturn, TypeVar
@@ -209,9 +211,8 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
     selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
-    labels = [config.project.assertions[i].name for i in selected]
-    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, labels, fmt,
-                               jobs, dask_address)
+    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, jobs,
+                               dask_address)
     if report_path is not None:
         from tockbmc.report.html import write_report
         write_report(report_path, results, title=" ".join(paths), version=__version__)
@@ -237,43 +238,54 @@ def _stdout_console() -> PipeConsole:
     return PipeConsole(width=None if sys.stdout.isatty() else 160, soft_wrap=True)
 
 
-def _decide(job: Job, selected: list[int], labels: list[str], fmt: str, jobs: int | None,
+def _shows_progress(fmt: str) -> bool:
+    """Whether to show a progress display on stderr: when it is a terminal, unless the text table's rows
+    go down a pipe, whose reader (`| tee`, `| head`) may write them to that terminal while the display
+    redraws itself over them."""
+    if not sys.stderr.isatty():
+        return False
+    if fmt != "text" or sys.stdout.isatty():
+        return True
+    try:
+        mode = os.fstat(sys.stdout.fileno()).st_mode
+    except (OSError, ValueError, io.UnsupportedOperation):  # no descriptor (a test's capture): not a terminal
+        return False
+    return not (stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode))
+
+
+def _decide(job: Job, selected: list[int], fmt: str, jobs: int | None,
             dask_address: str | None) -> tuple[list[Result], Decided]:
     """Decide the assertions `selected` (indices in the project), in this process, in `jobs` processes or on
     a Dask cluster, with a progress display on a terminal's stderr and, in text, each row of the table printed
     as soon as the rows before it are in.  The results, in the order of `selected` (the assertions Ctrl-C
     stopped `interrupted`), and how the drawing ended."""
-    position = {i: n for n, i in enumerate(selected)}
-    display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if sys.stderr.isatty() else None
-
-    def progress(i: int, depth: int | None) -> None:
-        assert display is not None
-        if depth is None:
-            display.started(position[i])
-        else:
-            display.reached(position[i], depth)
-
-    told = progress if display is not None else None
+    assertions = [job.config.project.assertions[i] for i in selected]
+    labels = [a.name for a in assertions]
+    display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if _shows_progress(fmt) else None
+    progress = display.progress_of if display is not None else None
+    work = [(job, i) for i in selected]
     workers = jobs if jobs is not None else os.cpu_count() or 1
     runner: InProcess | InProcesses | OnDask
     if dask_address is not None:
-        runner = OnDask(job, selected, dask_address, told)
-    elif workers == 1 or len(selected) <= 1:
-        runner = InProcess(job, selected, told)
+        runner = OnDask(work, dask_address, progress)
+    elif workers == 1 or len(work) <= 1:
+        runner = InProcess(work, progress)
     else:
-        runner = InProcesses(job, selected, workers, told)
+        runner = InProcesses(work, workers, progress)
     table = None
     if fmt == "text":
-        pause = display.paused if display is not None and sys.stdout.isatty() else contextlib.nullcontext
-        table = ResultTable(_stdout_console(), labels, explicit=job.engine == "explicit", pause=pause)
+        # On a terminal beside the display, rows go through the display's console, which prints them
+        # above itself; printed past it, they would be drawn over.
+        console = display.progress.console if display is not None and sys.stdout.isatty() else _stdout_console()
+        table = ResultTable(console, labels, explicit=job.engine == "explicit")
 
     def show(item: tuple[int, Result]) -> None:
-        i, r = item
+        n, r = item
         if display is not None:
-            display.decided(position[i], r)
+            display.decided(n, r)
         if table is not None:
             with reader_may_leave(sys.stdout):
-                table.add(position[i], r)
+                table.add(n, r)
 
     with display or contextlib.nullcontext():
         try:
@@ -281,14 +293,12 @@ def _decide(job: Job, selected: list[int], labels: list[str], fmt: str, jobs: in
         except Unbounded as exc:
             raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
                                    f"(--range {exc.name}=LO..HI)") from None
-    by_position = {position[i]: r for i, r in decided.results}
-    assertions = job.config.project.assertions
+    got = dict(decided.results)
     ranges = job.config.ranges()
-    results = [by_position.get(n) or interrupted(assertions[i], ranges, job.engine) for n, i in enumerate(selected)]
+    results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]
     if table is not None:
         for n, r in enumerate(results):
-            if n not in by_position:
-                table.results[n] = r
+            table.results.setdefault(n, r)
         with reader_may_leave(sys.stdout):
             table.finish()
     return results, decided

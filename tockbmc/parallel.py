@@ -1,18 +1,19 @@
-"""Deciding a project's assertions in this process, in worker processes (`check -j N`), or as tasks on
-a Dask cluster (`check --dask ADDRESS`).
+"""Deciding assertions in this process, in worker processes (`check -j N`), or as tasks on a Dask
+cluster (`check --dask ADDRESS`).
 
-A `Job` is what a worker needs: the configuration (which holds the resolved project) and the options
-of `check`.  It is pickled once and handed to each worker, which decides assertions by their index
-in the project; nothing is read from disk there, so a cluster's workers need tockbmc but not the
-model's files.  Each assertion is checked in a Z3 context of its own (`check.check_assertion`), so
-its result does not depend on which worker decided it or what that worker decided before: `-j N`
-gives what `-j 1` gives, but for the times (and, where Spacer's PDR and k-induction race to prove
-the same property, which of the two proofs is reported).
+A `Job` is what a worker needs to decide the assertions of one project: the configuration (which
+holds the resolved project) and the options of `check`.  It is pickled once and handed to the
+workers, which decide assertions by their index in the project; nothing is read from disk there, so
+a cluster's workers need tockbmc but not the model's files.  The work is a list of `(job, index)`
+pairs, from one project or many.  Each assertion is checked in a Z3 context of its own
+(`check.check_assertion`), so its result does not depend on which worker decided it or what that
+worker decided before: `-j N` gives what `-j 1` gives, but for the times (and, where Spacer's PDR
+and k-induction race to prove the same property, which of the two proofs is reported).
 
-Each way of deciding is an iterable of `(index, Result)` pairs, in the order the results are
-decided, with a `stop()` for Ctrl-C; the caller puts them back in the assertions' order.  Progress
-(an assertion started, a depth its search cleared) is reported to a `Progress` callback, from worker
-processes through a queue.
+Each way of deciding is an iterable of `(n, Result)` pairs, `n` the position in the work, in the
+order the results are decided, with a `stop()` for Ctrl-C; the caller puts them back in order.
+Progress (an assertion started, a depth its search cleared) goes to a `Progress` callback, from
+worker processes and Dask tasks through a queue.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ from tockbmc.model.config import Configuration
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.result import Result
 
-# Told (index, depth): the depth the search for assertion `index` has cleared, None when its check starts.
+# Told (n, depth): the depth the search for the n-th assertion of the work has cleared, None when its check starts.
 Progress = Callable[[int, int | None], None]
 
 
@@ -67,57 +68,52 @@ class Job:
             return pickle.dumps(self)
 
 
-@lru_cache(maxsize=4)
+Work = list[tuple[Job, int]]  # assertions to decide: each a job and the index of an assertion of its project
+
+
+@lru_cache(maxsize=8)
 def _unpickled(blob: bytes) -> Job:
-    """The job of `blob`, unpickled once per worker (Dask hands the same bytes to every task)."""
+    """The job of `blob`, unpickled once per worker process (its tasks all carry the same bytes)."""
     with recursion_room():
         job = pickle.loads(blob)
     assert isinstance(job, Job)
     return job
 
 
+def _decide(blob: bytes, index: int, n: int, sink: Any) -> Result:
+    """Decide assertion `index` of the job of `blob`, the n-th of the work, telling `sink` (a queue or None)."""
+    job = _unpickled(blob)
+    if sink is None:
+        return job.decide(index)
+    sink.put((n, None))
+    return job.decide(index, lambda depth: sink.put((n, depth)))
+
+
 class InProcess:
     """The assertions decided one after another in this process (`-j 1`)."""
 
-    def __init__(self, job: Job, indices: list[int], progress: Progress | None = None):
-        self.job, self.indices, self.progress = job, indices, progress
+    def __init__(self, work: Work, progress: Progress | None = None):
+        self.work, self.progress = work, progress
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
-        for i in self.indices:
+        for n, (job, index) in enumerate(self.work):
             told = None
             if self.progress is not None:
-                self.progress(i, None)
-                told = _told(self.progress, i)
-            yield i, self.job.decide(i, told)
+                self.progress(n, None)
+                told = _told(self.progress, n)
+            yield n, job.decide(index, told)
 
     def stop(self) -> None:
         """Nothing to stop: Ctrl-C stops Z3 in this process (`interrupt.decide`)."""
 
 
-def _told(progress: Progress, index: int) -> Callable[[int], None]:
-    return lambda depth: progress(index, depth)
+def _told(progress: Progress, n: int) -> Callable[[int], None]:
+    return lambda depth: progress(n, depth)
 
 
-# --------------------------------------------------------------------------- worker processes
-
-_WORKER: dict[str, Any] = {}  # in a worker process: its job and its progress queue, set once when it starts
-
-
-def _start_worker(blob: bytes, progress: Any) -> None:
-    """A worker process's start: Ctrl-C at the terminal is its parent's to handle (the parent ends the
-    workers), so it is ignored here; so it is in Spacer's child processes, which inherit this."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _WORKER["job"] = _unpickled(blob)
-    _WORKER["progress"] = progress
-
-
-def _decide_in_worker(index: int) -> Result:
-    job: Job = _WORKER["job"]
-    sink = _WORKER["progress"]
-    if sink is None:
-        return job.decide(index)
-    sink.put((index, None))
-    return job.decide(index, lambda depth: sink.put((index, depth)))
+def _blobs(work: Work) -> dict[int, bytes]:
+    """Each job of the work pickled once, by its identity."""
+    return {id(job): job.pickled() for job in {id(job): job for job, _ in work}.values()}
 
 
 class _Relay:
@@ -137,14 +133,30 @@ class _Relay:
                 items = self.take()
             except (EOFError, OSError):  # the queue was closed under us (Ctrl-C)
                 return
-            for index, depth in items:
-                self.progress(index, depth)
+            for n, depth in items:
+                self.progress(n, depth)
             if not items and closing:
                 return
 
     def close(self) -> None:
         self.done.set()
         self.thread.join(1)
+
+
+# --------------------------------------------------------------------------- worker processes
+
+_SINK: list[Any] = []  # in a worker process: the progress queue (or None), set once when it starts
+
+
+def _start_worker(sink: Any) -> None:
+    """A worker process's start: Ctrl-C at the terminal is its parent's to handle (the parent ends the
+    workers), so it is ignored here, and in Spacer's child processes, which inherit this."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _SINK.append(sink)
+
+
+def _decide_in_worker(blob: bytes, index: int, n: int) -> Result:
+    return _decide(blob, index, n, _SINK[0])
 
 
 def _taker(sink: Any) -> Callable[[], list[tuple[int, int | None]]]:
@@ -172,20 +184,22 @@ def _context() -> multiprocessing.context.BaseContext:
 class InProcesses:
     """The assertions decided in `jobs` worker processes (`concurrent.futures`), results as decided."""
 
-    def __init__(self, job: Job, indices: list[int], jobs: int, progress: Progress | None = None):
-        self.job, self.indices, self.jobs, self.progress = job, indices, jobs, progress
+    def __init__(self, work: Work, jobs: int, progress: Progress | None = None):
+        self.work, self.jobs, self.progress = work, jobs, progress
         self.executor: ProcessPoolExecutor | None = None
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
         context = _context()
         sink = context.SimpleQueue() if self.progress is not None else None
-        self.executor = ProcessPoolExecutor(max_workers=max(1, min(self.jobs, len(self.indices))),
-                                            mp_context=context, initializer=_start_worker,
-                                            initargs=(self.job.pickled(), sink))
+        blobs = _blobs(self.work)
+        self.executor = ProcessPoolExecutor(max_workers=max(1, min(self.jobs, len(self.work))), mp_context=context,
+                                            initializer=_start_worker, initargs=(sink,))
         relay = _Relay(_taker(sink), self.progress) if sink is not None and self.progress is not None else None
         finished = False
         try:
-            pending: dict[Future[Result], int] = {self.executor.submit(_decide_in_worker, i): i for i in self.indices}
+            pending: dict[Future[Result], int] = {
+                self.executor.submit(_decide_in_worker, blobs[id(job)], index, n): n
+                for n, (job, index) in enumerate(self.work)}
             while pending:
                 ready, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for future in sorted(ready, key=pending.__getitem__):
@@ -217,18 +231,15 @@ class InProcesses:
 _Z3_LOCK = threading.Lock()  # a Dask worker runs tasks in threads; Z3's main context is one per process
 
 
-def _decide_on_dask(blob: bytes, index: int, queue_name: str | None) -> Result:
-    """A Dask task: decide assertion `index`, one at a time in this worker process; progress goes to the
+def _decide_on_dask(blob: bytes, index: int, n: int, queue_name: str | None) -> Result:
+    """A Dask task: decide one assertion, one at a time in this worker process; progress goes to the
     cluster's queue `queue_name` (a name: a queue itself in a task's arguments is opened by the scheduler)."""
-    job = _unpickled(blob)
     with _Z3_LOCK:
         if queue_name is None:
-            return job.decide(index)
+            return _decide(blob, index, n, None)
         import distributed
 
-        sink = distributed.Queue(queue_name)
-        sink.put((index, None))
-        return job.decide(index, lambda depth: sink.put((index, depth)))
+        return _decide(blob, index, n, distributed.Queue(queue_name))
 
 
 class OnDask:
@@ -238,8 +249,8 @@ class OnDask:
     started; those running finish on the cluster and their results are dropped.
     """
 
-    def __init__(self, job: Job, indices: list[int], address: Any, progress: Progress | None = None):
-        self.job, self.indices, self.address, self.progress = job, indices, address, progress
+    def __init__(self, work: Work, address: Any, progress: Progress | None = None):
+        self.work, self.address, self.progress = work, address, progress
         self.futures: list[Any] = []
         self.client: Any = None
 
@@ -255,16 +266,18 @@ class OnDask:
                     items = sink.get(batch=True)  # what is waiting, at once (a timeout is an error in the scheduler's log)
                     if not items:
                         time.sleep(0.05)
-                    return [(index, depth) for index, depth in items]
+                    return [(n, depth) for n, depth in items]
 
                 relay = _Relay(take, self.progress)
             try:
-                [blob] = client.scatter([self.job.pickled()], broadcast=True)
+                blobs = _blobs(self.work)
+                scattered = dict(zip(blobs, client.scatter(list(blobs.values()), broadcast=True)))
                 name = sink.name if sink is not None else None
-                index = {client.submit(_decide_on_dask, blob, i, name, pure=False): i for i in self.indices}
-                self.futures = list(index)
+                position = {client.submit(_decide_on_dask, scattered[id(job)], index, n, name, pure=False): n
+                            for n, (job, index) in enumerate(self.work)}
+                self.futures = list(position)
                 for future in distributed.as_completed(self.futures):
-                    yield index[future], future.result()
+                    yield position[future], future.result()
             finally:
                 self.stop()
                 if relay is not None:

@@ -9,8 +9,6 @@ of it.
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, SpinnerColumn, TaskID, TextColumn, TimeElapsedColumn
@@ -22,7 +20,8 @@ from tockbmc.report.results import VERDICT_STYLE
 class ProgressDisplay:
     """A live display of a `check` run on `console` (a terminal): a line per assertion being
     checked, with a bar of the depth its search has cleared out of the bound, under a line counting
-    the verdicts so far.  Its methods may be called from any thread."""
+    the verdicts so far.  Its methods may be called from any thread; what is printed on `console`
+    meanwhile appears above the display (rich moves it)."""
 
     def __init__(self, names: list[str], bound: int | None, console: Console):
         self.names, self.bound = names, bound
@@ -44,6 +43,13 @@ class ProgressDisplay:
     @staticmethod
     def _tally(verdicts: dict[Verdict, int]) -> str:
         return ", ".join(f"[{VERDICT_STYLE[v]}]{n} {v.value}[/]" for v, n in verdicts.items()) or "none decided yet"
+
+    def progress_of(self, index: int, depth: int | None) -> None:
+        """`started` when `depth` is None, else `reached` (the form `parallel.Progress` takes)."""
+        if depth is None:
+            self.started(index)
+        else:
+            self.reached(index, depth)
 
     def started(self, index: int) -> None:
         """Assertion `index` (of `names`) is being checked."""
@@ -69,13 +75,3 @@ class ProgressDisplay:
                 self.progress.remove_task(task)
             self.verdicts[result.verdict] = self.verdicts.get(result.verdict, 0) + 1
             self.progress.update(self.overall, advance=1, status=self._tally(self.verdicts))
-
-    @contextmanager
-    def paused(self) -> Iterator[None]:
-        """Take the display off the terminal inside the block (for output written to the same terminal
-        another way, which the display's redrawing would otherwise overwrite)."""
-        self.progress.stop()
-        try:
-            yield
-        finally:
-            self.progress.start()

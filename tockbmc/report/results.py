@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable, Iterable
-from contextlib import AbstractContextManager, nullcontext
+from collections.abc import Iterable
 from importlib import resources
 from typing import Any
 
@@ -69,13 +68,10 @@ def configuration(r: Result) -> str:
 
 class ResultTable:
     """The results table, printed a row at a time: row i as soon as results 0..i are in, whatever
-    order they are decided in (the columns have fixed widths, so each row can be printed alone).
+    order they are decided in (the columns have fixed widths, so each row can be printed alone)."""
 
-    `pause` is entered around each write (to take a progress display off the same terminal)."""
-
-    def __init__(self, console: Console, names: list[str], explicit: bool = False,
-                 pause: Callable[[], AbstractContextManager[object]] = nullcontext):
-        self.console, self.names, self.explicit, self.pause = console, names, explicit, pause
+    def __init__(self, console: Console, names: list[str], explicit: bool = False):
+        self.console, self.names, self.explicit = console, names, explicit
         self.results: dict[int, Result] = {}
         self.rows = 0  # results printed as rows: those of indices below this
         self.printed = 0  # lines of the table printed so far
@@ -104,8 +100,7 @@ class ResultTable:
         lines = self.console.render_lines(self._table(), self.console.options, pad=False, new_lines=True)
         new = lines[self.printed:] if final else lines[self.printed:-1]
         if new:
-            with self.pause():
-                self.console.print(Segments([s for line in new for s in line]), soft_wrap=True)
+            self.console.print(Segments([s for line in new for s in line]), soft_wrap=True)
             self.printed += len(new)
 
     def start(self) -> None:
