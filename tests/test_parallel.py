@@ -49,6 +49,17 @@ def test_two_processes_give_the_json_of_one(tmp_path: Path) -> None:
     assert sum(len(r["trace"]) for r in json.loads(two.stdout)["results"]) > 20  # the traces were compared
 
 
+def test_the_explicit_engine_in_two_processes_gives_the_json_of_one() -> None:
+    """Its traces carry record values (`EXAX::move.in.(dist=…, time=…)`), which cross to the parent too."""
+    args = ["check", EXAMPLE, "-a", "A1", "-a", "A2", "-a", "A5", "-a", "A7", "--engine", "explicit", "--range",
+            "core_int=-1..1", "--range", "core_real=-1..1", "--range", "core_nat=0..3", "--format", "json"]
+    one, two = (run_cli([*args, "-j", jobs]) for jobs in ("1", "2"))
+    assert one.crash is None and two.crash is None and one.exit_code == two.exit_code == 10, two.output
+    a, b = json.loads(one.stdout), json.loads(two.stdout)
+    assert [r["verdict"] for r in b["results"]] == ["violated", "violated", "violated", "holds"]
+    assert comparable(a.pop("results")) == comparable(b.pop("results")) and a == b
+
+
 def counter_project(tmp_path: Path) -> Path:
     return write_files(tmp_path, {"c.rct": COUNTER, "c.assertions": "assertion T: Counter terminates.\n"
                                   "assertion D: Counter is deadlock-free.\nassertion N: Counter does not terminate.\n"})
@@ -171,19 +182,21 @@ def test_progress_is_shown_on_a_terminal_and_not_in_a_log(tmp_path: Path) -> Non
     with (tmp_path / "out.txt").open("w") as out:
         shown = on_terminal(args, out)
     assert "Slow" in shown and re.search(r"depth \d+ of 20", shown) and "none decided yet" in shown, shown[-2000:]
-    logged = subprocess.run(args, capture_output=True, text=True, timeout=120)
+    quick = [*args[:-4], "-k", "2", "-j", "1"]
+    logged = subprocess.run(quick, capture_output=True, text=True, timeout=120)
     assert logged.stderr == ""
-    assert on_terminal([*args[:-4], "-k", "2"], subprocess.PIPE) == ""
+    assert on_terminal(quick, subprocess.PIPE) == ""
     rows = [[c.strip() for c in line.split("│")[1:3]] for text in ((tmp_path / "out.txt").read_text(), logged.stdout)
             for line in text.splitlines() if line.startswith("│")]
     assert rows == [["Slow", "holds"], ["Slow", "holds"]]
 
 
 def test_dask_gives_the_results_of_one_process(tmp_path: Path) -> None:
-    """`--dask` on a local cluster (threads of this process): the JSON of `-j 1`, but for the times."""
+    """`--dask` on a local cluster (one worker process, daemonic as Dask's are, two threads): the JSON of
+    `-j 1`, but for the times; Spacer's child processes start there too (`bmc.pdr` forks them itself)."""
     distributed = pytest.importorskip("distributed")
     project = counter_project(tmp_path)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
         on_dask = run_cli(["check", project, "--dask", cluster.scheduler_address, "--format", "json", "-k", "12"])
         job = Job(configure(load(project)), bound=12)
         told: list[tuple[int, int | None]] = []

@@ -161,7 +161,11 @@ class Spacer:
     def run(self, timeout: float | None) -> str:
         """Solve and wait: "proved" (an invariant was found), "reachable", or "unknown"."""
         self.start(timeout)
-        return self.wait(None if timeout is None else timeout + 5)
+        try:
+            return self.wait(None if timeout is None else timeout + 5)
+        finally:
+            self.kill()
+            self.wait(None)  # reaps the child
 
     def invariant(self) -> z3.BoolRef:
         """The invariant found, over the template configuration and the constants."""

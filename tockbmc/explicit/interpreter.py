@@ -133,6 +133,9 @@ class NotInterpretable(Exception):
         self.pos = pos
         self.what = what
 
+    def __reduce__(self) -> tuple[type[NotInterpretable], tuple[ast.Pos | None, str]]:
+        return NotInterpretable, (self.pos, self.what)
+
 
 class Record(dict):
     """A record value: a read-only, hashable dict from field names to values."""
@@ -149,6 +152,10 @@ class Record(dict):
 
     def __repr__(self) -> str:
         return "Record(" + dict.__repr__(self) + ")"
+
+    def __reduce__(self) -> tuple[type[Record], tuple[dict]]:
+        """Rebuilt from a plain dict (pickle's own way fills the dict in place, which a record refuses)."""
+        return Record, (dict(self),)
 
     def with_field(self, name: str, value: object) -> Record:
         d = dict(self)
