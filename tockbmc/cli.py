@@ -28,7 +28,7 @@ from tockbmc.model.core import core_assertions
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
 from tockbmc.model.result import Result, exit_code
-from tockbmc.parallel import InProcess, InProcesses, Job, OnDask
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, warm_up
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.progress import ProgressDisplay
@@ -199,6 +199,8 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             raise click.UsageError("--dask and -j/--jobs exclude each other: the cluster's workers decide")
         if importlib.util.find_spec("distributed") is None:
             raise click.UsageError("--dask needs Dask's distributed scheduler: pip install 'tockbmc[dask]'")
+    elif (jobs is None and (os.cpu_count() or 1) > 1 or (jobs or 1) > 1) and len(names) != 1:
+        warm_up()  # worker processes may be wanted: their server starts while the model loads
     project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
