@@ -24,9 +24,9 @@ from tockbmc.parallel import InProcess, InProcesses, Job, OnDask
 
 
 def comparable(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Results without what may differ from run to run: the time, and for a property that both
-    k-induction and Spacer's PDR prove for every length, which of the two won the race (and its depth,
-    reason and invariant)."""
+    """Results without what may differ from run to run: the time, and for a property proved for every
+    length, which of k-induction and Spacer's PDR won the race (and its depth, reason and invariant: with
+    PDR's proof, the depth is how far BMC had got when Spacer answered)."""
     out = []
     for r in results:
         r = {k: v for k, v in r.items() if k != "seconds"}
