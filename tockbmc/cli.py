@@ -194,13 +194,14 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
+    workers = jobs if jobs is not None else os.cpu_count() or 1
     if dask_address is not None:
         if jobs is not None:
             raise click.UsageError("--dask and -j/--jobs exclude each other: the cluster's workers decide")
         if importlib.util.find_spec("distributed") is None:
             raise click.UsageError("--dask needs Dask's distributed scheduler: pip install 'tockbmc[dask]'")
-    elif (jobs is None and (os.cpu_count() or 1) > 1 or (jobs or 1) > 1) and len(names) != 1:
-        warm_up()  # worker processes may be wanted: their server starts while the model loads
+    elif workers > 1 and len(names) != 1:
+        warm_up()  # worker processes are likely wanted: their server starts while the model loads
     project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
@@ -213,7 +214,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
     selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
-    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, jobs,
+    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,
                                dask_address)
     if report_path is not None:
         from tockbmc.report.html import write_report
@@ -255,9 +256,9 @@ def _shows_progress(fmt: str) -> bool:
     return not (stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode))
 
 
-def _decide(job: Job, selected: list[int], fmt: str, jobs: int | None,
-            dask_address: str | None) -> tuple[list[Result], Decided]:
-    """Decide the assertions `selected` (indices in the project), in this process, in `jobs` processes or on
+def _decide(job: Job, selected: list[int], fmt: str, workers: int,
+            dask_address: str | None) -> tuple[list[Result], Decided[tuple[int, Result]]]:
+    """Decide the assertions `selected` (indices in the project), in this process, in `workers` processes or on
     a Dask cluster, with a progress display on a terminal's stderr and, in text, each row of the table printed
     as soon as the rows before it are in.  The results, in the order of `selected` (the assertions Ctrl-C
     stopped `interrupted`), and how the drawing ended."""
@@ -266,7 +267,6 @@ def _decide(job: Job, selected: list[int], fmt: str, jobs: int | None,
     display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if _shows_progress(fmt) else None
     progress = display.progress_of if display is not None else None
     work = [(job, i) for i in selected]
-    workers = jobs if jobs is not None else os.cpu_count() or 1
     runner: InProcess | InProcesses | OnDask
     if dask_address is not None:
         runner = OnDask(work, dask_address, progress)

@@ -30,6 +30,8 @@ from functools import lru_cache
 from multiprocessing import forkserver
 from typing import Any
 
+import z3
+
 from tockbmc.check import check_assertion
 from tockbmc.explicit.engine import DEFAULT_MAX_STATES
 from tockbmc.explicit.engine import check_assertion as check_assertion_explicit
@@ -151,8 +153,11 @@ _SINK: list[Any] = []  # in a worker process: the progress queue (or None), set 
 
 def _start_worker(sink: Any) -> None:
     """A worker process's start: Ctrl-C at the terminal is its parent's to handle (the parent ends the
-    workers), so it is ignored here, and in Spacer's child processes, which inherit this."""
+    workers), so it is ignored here, and in Spacer's child processes, which inherit this; Z3 would
+    otherwise catch it while it solves and end the query as `unknown`, a verdict the parent could
+    receive before it ends the worker."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    z3.set_param("ctrl_c", False)
     _SINK.append(sink)
 
 
