@@ -216,3 +216,12 @@ def test_dask_without_dask_installed_is_a_usage_error(tmp_path: Path, monkeypatc
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "distributed" else real(name, *a))
     result = run_cli(["check", counter_project(tmp_path), "--dask", "tcp://127.0.0.1:1"])
     assert result.exit_code == 2 and "pip install 'tockbmc[dask]'" in result.stderr, result.output
+
+
+def test_dask_with_no_scheduler_there_is_a_usage_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip("distributed")
+    import tockbmc.parallel
+    monkeypatch.setattr(tockbmc.parallel, "CONNECT_TIMEOUT", 0.5)
+    result = run_cli(["check", counter_project(tmp_path), "--dask", "tcp://127.0.0.1:1"])
+    assert result.crash is None and result.exit_code == 2, result.output
+    assert "cannot reach a Dask scheduler at tcp://127.0.0.1:1" in result.stderr

@@ -28,7 +28,7 @@ from tockbmc.model.core import core_assertions
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
 from tockbmc.model.result import Result, exit_code
-from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, warm_up
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, warm_up
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.progress import ProgressDisplay
@@ -295,6 +295,8 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
         except Unbounded as exc:
             raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
                                    f"(--range {exc.name}=LO..HI)") from None
+        except Unreachable as exc:
+            raise click.BadParameter(str(exc), param_hint="'--dask'") from None
     got = dict(decided.results)
     ranges = job.config.ranges()
     results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]

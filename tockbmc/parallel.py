@@ -256,6 +256,17 @@ def _decide_on_dask(blob: bytes, index: int, n: int, queue_name: str | None) -> 
         return _decide(blob, index, n, distributed.Queue(queue_name))
 
 
+CONNECT_TIMEOUT = 10  # seconds to reach a Dask scheduler
+
+
+class Unreachable(Exception):
+    """No Dask scheduler answered at `address`."""
+
+    def __init__(self, address: str, why: str):
+        super().__init__(f"cannot reach a Dask scheduler at {address}: {why}")
+        self.address, self.why = address, why
+
+
 class OnDask:
     """The assertions decided as tasks on the Dask cluster whose scheduler is at `address`.
 
@@ -271,7 +282,11 @@ class OnDask:
     def __iter__(self) -> Iterator[tuple[int, Result]]:
         import distributed
 
-        with distributed.Client(self.address) as client:
+        try:
+            client = distributed.Client(self.address, timeout=CONNECT_TIMEOUT)
+        except OSError as exc:  # refused, timed out, no such host
+            raise Unreachable(str(self.address), str(exc)) from None
+        with client:
             self.client = client
             sink = distributed.Queue(client=client) if self.progress is not None else None
             relay = None
