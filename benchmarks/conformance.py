@@ -1,6 +1,8 @@
 """Check the supported assertions of RoboTool's regression suite at a given bound and print the counts.
 
-Run: python benchmarks/conformance.py [--bound 40] [--timeout 120]
+Run: python benchmarks/conformance.py [--bound 40] [--timeout 120] [--jobs N]
+With --jobs N (default 1) the assertions of every case are decided in N worker processes
+(`tockbmc.parallel`, as `check -j N`); the lines and counts are the same, in the same order.
 Each case is checked as RoboTool reads it: RoboTool's default ranges (core_int=-2..2,
 core_real=-2..2, core_nat=0..2) under the case's own instantiation, and RoboTool's default
 values for constants without one.  Every assertion of the suite is written to hold, so any
@@ -15,8 +17,10 @@ import time
 from pathlib import Path
 
 import tockbmc
-from tockbmc.check import DEFAULT_BOUND, check
+from tockbmc.check import DEFAULT_BOUND
 from tockbmc.model.config import ROBOTOOL_RANGES, configure
+from tockbmc.model.result import Result
+from tockbmc.parallel import InProcess, InProcesses, Job, Work
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "conformance" / "robochart-tests" / "robochart"
 
@@ -26,25 +30,39 @@ def main() -> None:
     parser.add_argument("--bound", type=int, default=DEFAULT_BOUND)
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--corpus", type=Path, default=CORPUS)
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (1: this process)")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
+    work: Work = []
+    cases: list[str] = []  # the case of each assertion of the work
     for case in sorted(args.corpus.iterdir()):
         try:
             project = tockbmc.load(case)
         except tockbmc.ModelError:
             counts["case does not load"] += 1
             continue
-        config = configure(project, default_ranges=ROBOTOOL_RANGES)
-        for r in check(project, bound=args.bound, timeout=args.timeout, config=config):
-            counts[r.verdict] += 1
-            if r.verdict == "violated":  # every assertion of the suite holds in RoboTool
-                counts["decided differently from RoboTool"] += 1
-            if r.verdict != "unsupported":
-                print(f"{case.name:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s  {(r.reason or '')[:80]}",
-                      flush=True)
+        job = Job(configure(project, default_ranges=ROBOTOOL_RANGES), args.bound, args.timeout)
+        work += [(job, i) for i in range(len(job.config.project.assertions))]
+        cases += [case.name] * len(job.config.project.assertions)
+    runner = InProcess(work) if args.jobs == 1 else InProcesses(work, args.jobs)
+    decided: dict[int, Result] = {}
+    shown = 0
+    for n, r in runner:  # printed in the order of the work, whatever order they are decided in
+        decided[n] = r
+        while shown in decided:
+            report(cases[shown], decided[shown], counts)
+            shown += 1
     print(f"bound {args.bound}: " + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())),
           f"({time.perf_counter() - start:.0f} s)")
+
+
+def report(case: str, r: Result, counts: collections.Counter[str]) -> None:
+    counts[r.verdict] += 1
+    if r.verdict == "violated":  # every assertion of the suite holds in RoboTool
+        counts["decided differently from RoboTool"] += 1
+    if r.verdict != "unsupported":
+        print(f"{case:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s  {(r.reason or '')[:80]}", flush=True)
 
 
 if __name__ == "__main__":

@@ -163,13 +163,14 @@ def busy_for(pid: int, seconds: float) -> None:
 
 
 def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) -> None:
-    """Ctrl-C during Z3's solving (BMC) and during the explicit search: within two seconds, exit
+    """Ctrl-C during Z3's solving (BMC) and during the explicit search, in this process (`-j 1`;
+    worker processes: tests/test_parallel.py): within two seconds, exit
     130 with the verdicts decided so far and the other assertions marked interrupted. Elsewhere
     (loading, showing, simulating): "interrupted", exit 130, not click's "Aborted!" and 1."""
     write_files(tmp_path, SLOW)
-    bmc = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2"]
+    bmc = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "1"]
     explicit = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "C", "-a", "Q2", "--engine", "explicit", "--range",
-                "core_int=-1..1", "--max-states", "100000000", "--format", "json"]
+                "core_int=-1..1", "--max-states", "100000000", "--format", "json", "-j", "1"]
     simulate = ["simulate", tmp_path, "--element", "Count", "--steps", "100000000"]
     procs = [subprocess.Popen([*TOCKBMC, *map(str, args)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
              for args in (bmc, explicit, simulate)]

@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 
+import z3
+
 from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
-from tockbmc.bmc.engine import Outcome, Status
+from tockbmc.bmc.engine import Outcome, Progress, Status
 from tockbmc.bmc.inclusion import included
 from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
@@ -68,9 +71,9 @@ class _Check:
     """The search for one assertion's verdict, and the `Result` it gives."""
 
     def __init__(self, a: ast.Assertion, bound: int, config: Configuration, timeout: float | None,
-                 induction: bool, shortest: str):
+                 induction: bool, shortest: str, progress: Progress | None = None):
         self.a, self.bound, self.config, self.timeout = a, bound, config, timeout
-        self.induction, self.shortest = induction, shortest
+        self.induction, self.shortest, self.progress = induction, shortest, progress
         self.ranges = config.ranges()
         # What the result states it was checked with; the assertion's constants are known once it is queried.
         self.described: dict[str, str] = self.ranges.describe()
@@ -143,7 +146,8 @@ class _Check:
         self.searched = True
         why_not = goal.unprovable(system) if goal.unprovable is not None else None
         outcome = decide(system, goal.target, self.bound, self.time_left(),
-                         goal.stateless and self.induction and why_not is None, fewest_visible=self.shortest == "events")
+                         goal.stateless and self.induction and why_not is None, fewest_visible=self.shortest == "events",
+                         progress=self.progress)
         if outcome.status == Status.UNKNOWN:
             return self.result(Verdict.UNKNOWN, outcome.reason, proof=Proof.NONE, depth=outcome.depth)
         if outcome.status == Status.FOUND:
@@ -201,7 +205,7 @@ class _Check:
         negated = self.a.negated
         # First one run at a time: no configuration where the next visible event leaves the next step open.
         local = decide(TransitionSystem(network, self.ranges, consts), locally_nondeterministic, self.bound,
-                       self.time_left(), self.induction)
+                       self.time_left(), self.induction, progress=self.progress)
         if local.status == Status.UNKNOWN:
             return self.result(Verdict.UNKNOWN, local.reason, proof=Proof.NONE, depth=local.depth)
         if local.status == Status.PROVED:
@@ -293,7 +297,8 @@ class _Check:
         def make(follower: Callable[[TransitionSystem], TraceFollower]) -> TransitionSystem:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
-        inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left)
+        inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
+                       progress=self.progress)
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
                 return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace)
@@ -309,9 +314,33 @@ class _Check:
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
-                    timeout: float | None, induction: bool = True, shortest: str = "steps") -> Result:
-    """The verdict of one assertion: its goals searched in order (see `properties.goals.Query`)."""
-    return _Check(a, bound, config, timeout, induction, shortest).run(project)
+                    timeout: float | None, induction: bool = True, shortest: str = "steps",
+                    progress: Progress | None = None) -> Result:
+    """The verdict of one assertion: its goals searched in order (see `properties.goals.Query`).
+
+    `progress` is told each depth a search clears.  The check has a Z3 context of its own, so its
+    verdict, trace and time do not depend on what was checked before it in the same process: the
+    same assertion gives the same result alone, after others, or in a worker process (`check -j`).
+    """
+    with _own_z3_context():
+        return _Check(a, bound, config, timeout, induction, shortest, progress).run(project)
+
+
+@contextmanager
+def _own_z3_context() -> Iterator[None]:
+    """Give Z3's main context (the one every term is built in by default) a fresh value inside the block.
+
+    Z3's models depend on what its context has seen (the numbering of terms), so a counterexample
+    found after other checks in one context can differ from the one found alone.  The engines build
+    their terms in the main context; swapping it is the one place that knows.  Not for two threads
+    at once: the main context is one per process.
+    """
+    previous = z3.z3._main_ctx  # noqa: SLF001 - z3py keeps it there; `main_ctx()` creates it on demand
+    z3.z3._main_ctx = z3.Context()
+    try:
+        yield
+    finally:
+        z3.z3._main_ctx = previous
 
 
 def replay_pair(q: Query, trace: tuple, other: tuple, choices: dict[str, object], ranges: Ranges,

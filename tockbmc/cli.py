@@ -4,28 +4,35 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import importlib.util
+import io
 import json
 import math
 import os
+import stat
 import sys
 from collections.abc import Callable
 from typing import NoReturn, TypeVar
 
 import click
+from rich.console import Console
 from rich.text import Text
 
 from tockbmc import __version__
-from tockbmc.check import DEFAULT_BOUND, iter_check
-from tockbmc.interrupt import decide, interrupted
+from tockbmc.check import DEFAULT_BOUND
+from tockbmc.explicit.interpreter import Unbounded
+from tockbmc.interrupt import Decided, decide, interrupted
 from tockbmc.model import ModelError, Project, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
 from tockbmc.model.limits import recursion_room
-from tockbmc.model.ranges import Range, Ranges
-from tockbmc.model.result import exit_code
+from tockbmc.model.ranges import Range
+from tockbmc.model.result import Result, exit_code
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, warm_up
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
-from tockbmc.report.results import print_results, print_trace
+from tockbmc.report.progress import ProgressDisplay
+from tockbmc.report.results import ResultTable, print_details, print_trace
 from tockbmc.report.results import to_json as results_json
 from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
@@ -169,9 +176,16 @@ def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> 
 @click.option("--report", "report_path", type=click.Path(dir_okay=False, writable=True), default=None,
               metavar="FILE.html", help="Also write the results as one self-contained HTML page: the verdict table, "
                                         "the scope, and each trace as a sequence diagram beside its steps.")
+@click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
+              help="Decide the assertions in N worker processes (default: one per core); 1 decides them in this "
+                   "process.  The results and their order are the same.")
+@click.option("--dask", "dask_address", default=None, metavar="ADDRESS",
+              help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
+                   "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
           set_specs: tuple[str, ...], param_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str,
-          max_states: int, shortest: str, core: bool, report_path: str | None) -> None:
+          max_states: int, shortest: str, core: bool, report_path: str | None, jobs: int | None,
+          dask_address: str | None) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -180,6 +194,14 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
+    workers = jobs if jobs is not None else os.cpu_count() or 1
+    if dask_address is not None:
+        if jobs is not None:
+            raise click.UsageError("--dask and -j/--jobs exclude each other: the cluster's workers decide")
+        if importlib.util.find_spec("distributed") is None:
+            raise click.UsageError("--dask needs Dask's distributed scheduler: pip install 'tockbmc[dask]'")
+    elif workers > 1 and len(names) != 1:
+        warm_up()  # worker processes are likely wanted: their server starts while the model loads
     project = _load(paths, fmt)
     if core or not project.assertions:
         if not project.assertions:
@@ -191,22 +213,9 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         if n not in known:
             raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
                                      param_hint="'-a'")
-    if engine == "explicit":
-        from tockbmc.explicit.engine import iter_check_explicit
-        from tockbmc.explicit.interpreter import Unbounded
-        try:
-            decided = decide(iter_check_explicit(project, names or None, bound, Ranges(), {}, timeout, max_states,
-                                                 config))
-        except Unbounded as exc:
-            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
-                                   f"(--range {exc.name}=LO..HI)") from None
-    else:
-        decided = decide(iter_check(project, names or None, bound, timeout=timeout, shortest=shortest, config=config))
-    results = decided.results
-    if decided.interrupted:  # Ctrl-C: what was decided, then the rest as interrupted
-        seen = {r.assertion for r in results}
-        results = [*results, *(interrupted(a, config.ranges(), engine) for a in config.project.assertions
-                               if (not names or a.name in names) and a.name not in seen)]
+    selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
+    results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,
+                               dask_address)
     if report_path is not None:
         from tockbmc.report.html import write_report
         write_report(report_path, results, title=" ".join(paths), version=__version__)
@@ -221,11 +230,82 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         elif fmt == "junit":
             click.echo(junit.report(results))
         else:
-            width = None if sys.stdout.isatty() else 160
-            print_results(results, PipeConsole(width=width, soft_wrap=True))
+            print_details(results, _stdout_console())
     if decided.interrupted:
         _exit_interrupted(decided.worker_done)
     sys.exit(exit_code(r.verdict for r in results))
+
+
+def _stdout_console() -> PipeConsole:
+    # A pipe or a CI log has no width: a wide one, so that rows are not wrapped.
+    return PipeConsole(width=None if sys.stdout.isatty() else 160, soft_wrap=True)
+
+
+def _shows_progress(fmt: str) -> bool:
+    """Whether to show a progress display on stderr: when it is a terminal, unless the text table's rows
+    go down a pipe, whose reader (`| tee`, `| head`) may write them to that terminal while the display
+    redraws itself over them."""
+    if not sys.stderr.isatty():
+        return False
+    if fmt != "text" or sys.stdout.isatty():
+        return True
+    try:
+        mode = os.fstat(sys.stdout.fileno()).st_mode
+    except (OSError, ValueError, io.UnsupportedOperation):  # no descriptor (a test's capture): not a terminal
+        return False
+    return not (stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode))
+
+
+def _decide(job: Job, selected: list[int], fmt: str, workers: int,
+            dask_address: str | None) -> tuple[list[Result], Decided[tuple[int, Result]]]:
+    """Decide the assertions `selected` (indices in the project), in this process, in `workers` processes or on
+    a Dask cluster, with a progress display on a terminal's stderr and, in text, each row of the table printed
+    as soon as the rows before it are in.  The results, in the order of `selected` (the assertions Ctrl-C
+    stopped `interrupted`), and how the drawing ended."""
+    assertions = [job.config.project.assertions[i] for i in selected]
+    labels = [a.name for a in assertions]
+    display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if _shows_progress(fmt) else None
+    progress = display.progress_of if display is not None else None
+    work = [(job, i) for i in selected]
+    runner: InProcess | InProcesses | OnDask
+    if dask_address is not None:
+        runner = OnDask(work, dask_address, progress)
+    elif workers == 1 or len(work) <= 1:
+        runner = InProcess(work, progress)
+    else:
+        runner = InProcesses(work, workers, progress)
+    table = None
+    if fmt == "text":
+        # On a terminal beside the display, rows go through the display's console, which prints them
+        # above itself; printed past it, they would be drawn over.
+        console = display.progress.console if display is not None and sys.stdout.isatty() else _stdout_console()
+        table = ResultTable(console, labels, explicit=job.engine == "explicit")
+
+    def show(item: tuple[int, Result]) -> None:
+        n, r = item
+        if display is not None:
+            display.decided(n, r)
+        if table is not None:
+            with reader_may_leave(sys.stdout):
+                table.add(n, r)
+
+    with display or contextlib.nullcontext():
+        try:
+            decided = decide(runner, on_item=show, stop=runner.stop)
+        except Unbounded as exc:
+            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
+                                   f"(--range {exc.name}=LO..HI)") from None
+        except Unreachable as exc:
+            raise click.BadParameter(str(exc), param_hint="'--dask'") from None
+    got = dict(decided.results)
+    ranges = job.config.ranges()
+    results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]
+    if table is not None:
+        for n, r in enumerate(results):
+            table.results.setdefault(n, r)
+        with reader_may_leave(sys.stdout):
+            table.finish()
+    return results, decided
 
 
 @cli.command()

@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import signal
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import Generic, TypeVar
 
 import z3
 
@@ -19,50 +21,85 @@ from tockbmc.model import ast
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, Verdict
 
+T = TypeVar("T")
+
 
 @dataclass(frozen=True)
-class Decided:
-    """The results drawn, in order, and whether Ctrl-C stopped the drawing (`worker_done`: whether the
+class Decided(Generic[T]):
+    """The items drawn, in order, and whether Ctrl-C stopped the drawing (`worker_done`: whether the
     worker had stopped within the grace period after it)."""
 
-    results: list[Result]
+    results: list[T]
     interrupted: bool = False
     worker_done: bool = True
 
 
-def decide(results: Iterator[Result], grace: float = 0.5) -> Decided:
-    """Draw `results` in a worker thread until they end or Ctrl-C; an exception of theirs is raised here.
+def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] | None = None,
+           stop: Callable[[], None] | None = None) -> Decided[T]:
+    """Draw `items` (results, or anything that carries them) in a worker thread until they end or
+    Ctrl-C; an exception of theirs is raised here.
+
+    `on_item` is called in this thread with each item as soon as it is drawn (to print it), Ctrl-C
+    held back meanwhile so that a line is never cut in two; after Ctrl-C it still gets each item
+    drawn before.  On Ctrl-C, `stop` is called to stop whatever decides the items elsewhere (worker
+    processes, a cluster's tasks).
 
     Z3 handles Ctrl-C itself while it solves (it ends that one query as `unknown` and carries on),
     so its handler is switched off: Ctrl-C must reach Python to stop the whole run. After Ctrl-C, a
     second one ends tockbmc at once, and the worker gets `grace` seconds to stop.
     """
     z3.set_param("ctrl_c", False)
-    drawn: list[Result] = []
+    drawn: list[T] = []
     failure: list[BaseException] = []
     done = threading.Event()  # not Thread.join: a join that Ctrl-C interrupts can wrongly report the end
+    handed = 0  # items given to `on_item`
 
     def work() -> None:
         try:
-            for r in results:
-                drawn.append(r)
+            for item in items:
+                drawn.append(item)
         except BaseException as exc:  # noqa: B036 - handed to the main thread, which raises it
             failure.append(exc)
         finally:
             done.set()
 
+    def hand_over(upto: int) -> None:
+        nonlocal handed
+        while on_item is not None and handed < upto:
+            with _ctrl_c_held():
+                on_item(drawn[handed])
+                handed += 1
+
     threading.Thread(target=work, name="tockbmc-decide", daemon=True).start()
     try:
         while not done.wait(0.05):
-            pass
+            hand_over(len(drawn))
+        hand_over(len(drawn))
     except KeyboardInterrupt:
         decided = list(drawn)  # before Z3 is stopped: the query it stops would read "unknown"
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         z3.main_ctx().interrupt()
+        if stop is not None:
+            stop()
+        hand_over(len(decided))
         return Decided(decided, interrupted=True, worker_done=done.wait(grace))
     if failure:
         raise failure[0]
     return Decided(drawn)
+
+
+@contextmanager
+def _ctrl_c_held() -> Iterator[None]:
+    """Ctrl-C is delivered when the block ends, not inside it (where it would cut output in two)."""
+    mask = getattr(signal, "pthread_sigmask", None)  # not on Windows: there the block can be cut
+    if mask is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    mask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        mask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
 def interrupted(a: ast.Assertion, ranges: Ranges, engine: str) -> Result:

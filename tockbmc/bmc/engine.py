@@ -107,13 +107,17 @@ class _Induction:
         return True if result == z3.unsat else (False if result == z3.sat else None)
 
 
+Progress = Callable[[int], None]  # told each depth k a search has cleared: no run of k steps reaches the target
+
+
 def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
-        induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None) -> Outcome:
+        induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None,
+        progress: Progress | None = None) -> Outcome:
     """Search runs of up to `bound` steps for one that reaches `target`.
 
     With `induction`, k-induction may prove after each depth that no run of any length does.
     `stop` is asked before each depth; when it says so, the search ends `unknown` (another
-    engine has decided).
+    engine has decided).  `progress` is told each depth cleared (for a display; it must be quick).
     """
     clock = _Clock(timeout)
     goal = target(system)
@@ -133,13 +137,15 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
         result = solver.check(literal)
         if result == z3.sat:
             if fewest_visible:
-                return _fewest_visible(u, goal, bound, solver, k, solver.model(), clock)
+                return _fewest_visible(u, goal, bound, solver, k, solver.model(), clock, progress)
             return Outcome(Status.FOUND, k, u, solver.model())
         if result == z3.unknown:
             why = solver.reason_unknown()
             if why in ("canceled", "timeout", "interrupted"):
                 return Outcome(Status.UNKNOWN, k, reason=f"timed out at depth {k}")
             return Outcome(Status.UNKNOWN, k, reason=f"Z3 gave up at depth {k}: {why}")
+        if progress is not None:
+            progress(k)
         if prover is not None and k < INDUCTION_DEPTH and prover.proves(k + 1):
             return Outcome(Status.PROVED, k, reason=f"it is {k + 1}-inductive, so no depth reaches it",
                            method="k-induction")
@@ -154,7 +160,7 @@ def _visible(u: Unroller, model: z3.ModelRef, depth: int) -> int:
 
 
 def _fewest_visible(u: Unroller, goal: z3.BoolRef, bound: int, solver: z3.Solver, k: int,
-                    model: z3.ModelRef, clock: _Clock) -> Outcome:
+                    model: z3.ModelRef, clock: _Clock, progress: Progress | None) -> Outcome:
     """From a counterexample at depth k, one with the fewest visible steps within `bound`."""
     best, depth = _visible(u, model, k), k
     d = k
@@ -176,6 +182,8 @@ def _fewest_visible(u: Unroller, goal: z3.BoolRef, bound: int, solver: z3.Solver
         if result == z3.unknown:  # keep the one found: a counterexample, if perhaps not the fewest
             unfinished = f"fewer visible steps were searched for up to depth {d - 1} only ({solver.reason_unknown()})"
             break
+        if progress is not None:
+            progress(d)
         if d < bound:
             solver.add(u.at(u.system.trans(), d))
         d += 1

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from tockbmc.bmc.engine import Status, bmc
+from tockbmc.bmc.engine import Progress, Status, bmc
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.model.result import TraceStep, Verdict
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, TraceFollower, followed, spec_traces
@@ -34,20 +34,23 @@ def _following(make: Make, t: SpecTrace) -> TransitionSystem:
     return make(lambda s: TraceFollower(s, t))
 
 
-def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Callable[[], float | None]) -> SpecTrace:
+def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Callable[[], float | None],
+                             progress: Progress | None) -> SpecTrace:
     """The shortest prefix of t that the element provably cannot perform (t itself if none shorter)."""
     for n in range(1, len(t.events) + 1):
         prefix = SpecTrace(t.events[:n], t.ticks and n == len(t.events))
-        if bmc(_following(make, prefix), followed, bound, timeout(), induction=True).status == Status.PROVED:
+        if bmc(_following(make, prefix), followed, bound, timeout(), induction=True,
+               progress=progress).status == Status.PROVED:
             return prefix
     return t
 
 
 def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, bound: int,
-             timeout: Callable[[], float | None], cap: int = 256) -> Inclusion:
+             timeout: Callable[[], float | None], cap: int = 256, progress: Progress | None = None) -> Inclusion:
     """Whether every trace of `spec` (up to a length) is one of the element's.
 
-    `make(follower)` builds the element's system with a follower attached.
+    `make(follower)` builds the element's system with a follower attached; `progress` is told each
+    depth each search clears.
     """
     probe = _following(make, SpecTrace((), False))
     channels, _ = channels_of(probe)
@@ -58,11 +61,11 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {cap} traces of {wanted} events; only those "
                                           f"of up to {length} events could be listed, which gives no verdict")
     for t in traces:
-        outcome = bmc(_following(make, t), followed, bound, timeout(), induction=True)
+        outcome = bmc(_following(make, t), followed, bound, timeout(), induction=True, progress=progress)
         if outcome.status == Status.FOUND:
             continue
         if outcome.status == Status.PROVED:
-            t = _shortest_failing_prefix(make, t, bound, timeout)
+            t = _shortest_failing_prefix(make, t, bound, timeout, progress)
         shown = [_event_text(e) for e in t.events] + (["✓"] if t.ticks else [])
         steps = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {spec_name}", {}, {})
                       for j, e in enumerate(shown))

@@ -21,9 +21,10 @@ which Horn clauses over arithmetic cannot express.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
-import multiprocessing.process
 import os
+import signal
 import threading
 import time
 from multiprocessing.connection import Connection
@@ -121,17 +122,23 @@ class Spacer:
         self.query = "; arguments: " + "\t".join(str(x) for x in cur) + "\n" + solver.sexpr()
         self.status = "unknown"
         self._invariant = ""
-        self._process: multiprocessing.process.BaseProcess | None = None
+        self._pid: int | None = None  # the child solving, until it is reaped
         self._answer: Connection | None = None
 
     def start(self, timeout: float | None) -> None:
-        """Start solving in a child process (fork: no re-import, nothing to pickle but text)."""
-        receive, send = multiprocessing.get_context("fork").Pipe(duplex=False)
-        self._process = multiprocessing.get_context("fork").Process(target=_solve, args=(self.query, timeout, send),
-                                                                     daemon=True)
-        self._process.start()
+        """Start solving in a child process: a fork (no re-import, nothing to pickle but text), by
+        `os.fork` rather than `multiprocessing`, which refuses children to a daemonic process such as
+        a Dask worker's."""
+        receive, send = multiprocessing.Pipe(duplex=False)
+        pid = os.fork()
+        if pid == 0:  # the child: solve, answer, and end without running the parent's exit handlers
+            try:
+                receive.close()
+                _solve(self.query, timeout, send)
+            finally:
+                os._exit(0)
         send.close()
-        self._answer = receive
+        self._pid, self._answer = pid, receive
 
     def wait(self, seconds: float | None) -> str:
         """Wait up to `seconds` (None: until it answers or is killed) for the answer; returns the status
@@ -143,14 +150,22 @@ class Spacer:
                 self.status = "unknown"
             self._answer.close()
             self._answer = None
-            if self._process is not None:
-                self._process.join()
+            self._reap()
         return self.status
+
+    def _reap(self) -> None:
+        if self._pid is not None:
+            os.waitpid(self._pid, 0)
+            self._pid = None
 
     def run(self, timeout: float | None) -> str:
         """Solve and wait: "proved" (an invariant was found), "reachable", or "unknown"."""
         self.start(timeout)
-        return self.wait(None if timeout is None else timeout + 5)
+        try:
+            return self.wait(None if timeout is None else timeout + 5)
+        finally:
+            self.kill()
+            self.wait(None)  # reaps the child
 
     def invariant(self) -> z3.BoolRef:
         """The invariant found, over the template configuration and the constants."""
@@ -159,8 +174,9 @@ class Spacer:
 
     def kill(self) -> None:
         """Stop the child, if it is still solving (its waiter then sees no answer)."""
-        if self._process is not None and self._process.is_alive():
-            self._process.kill()
+        if self._pid is not None:
+            with contextlib.suppress(ProcessLookupError):  # it has ended, and is not reaped yet
+                os.kill(self._pid, signal.SIGKILL)
 
 
 def confirmed(system: TransitionSystem, target: z3.BoolRef, invariant: z3.BoolRef, timeout: float = 10) -> bool:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 
-from tockbmc.bmc.engine import Outcome, Status, bmc
+from tockbmc.bmc.engine import Outcome, Progress, Status, bmc
 from tockbmc.bmc.pdr import Spacer, applicable, confirmed, describe
 from tockbmc.encodings.system import Target, TransitionSystem
 
@@ -24,17 +24,18 @@ GRACE = 10.0  # most seconds Spacer may go on once BMC has reached its bound (at
 
 
 def decide(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
-           induction: bool = True, fewest_visible: bool = False) -> Outcome:
-    """BMC (with k-induction when `induction`) and, when it applies, PDR: the first to decide."""
+           induction: bool = True, fewest_visible: bool = False, progress: Progress | None = None) -> Outcome:
+    """BMC (with k-induction when `induction`) and, when it applies, PDR: the first to decide.
+    `progress` is told each depth BMC clears."""
     start = time.monotonic()
     goal = target(system)
     if not induction or applicable(system, goal) is not None:
-        return bmc(system, target, bound, timeout, induction, fewest_visible)
+        return bmc(system, target, bound, timeout, induction, fewest_visible, progress=progress)
     spacer = Spacer(system, goal)
     spacer.start(timeout)
     try:
         outcome = bmc(system, target, bound, timeout, induction, fewest_visible,
-                      stop=lambda: spacer.wait(0) == "proved")
+                      stop=lambda: spacer.wait(0) == "proved", progress=progress)
         if outcome.status in (Status.FOUND, Status.PROVED):
             return outcome
         took = time.monotonic() - start

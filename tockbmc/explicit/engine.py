@@ -64,8 +64,11 @@ class _Node:
 class Search:
     """One assertion's search; `found(node, steps)` says whether a node is a target."""
 
-    def __init__(self, interp: Interpreter, q: Query, bound: int, max_states: int, deadline: float | None):
+    def __init__(self, interp: Interpreter, q: Query, bound: int, max_states: int, deadline: float | None,
+                 progress: Callable[[int], None] | None = None):
         self.interp, self.q, self.bound, self.max_states, self.deadline = interp, q, bound, max_states, deadline
+        self.progress = progress  # told each number of visible steps the search has got past
+        self.reached = -1
         self.context = q.context
         self.monitor: Monitor | None = None
         if q.context is not None and q.context.spec is not None:
@@ -147,6 +150,10 @@ class Search:
                 raise TimeoutError
             key = todo.popleft()
             d = self.depth[key]
+            if d > self.reached:  # 0-1 search: depths come in order, so every run of fewer visible steps is explored
+                if self.progress is not None and d > 0:
+                    self.progress(d - 1)
+                self.reached = d
             if key[1] == Monitor.DEAD:  # type: ignore[index]
                 return key, "dead"
             succ = self.steps(key)
@@ -296,11 +303,14 @@ def iter_check_explicit(project: ast.Project, names: Iterable[str] | None, bound
     wanted = set(names) if names is not None else None
     for a in config.project.assertions:
         if wanted is None or a.name in wanted:
-            yield _check(config.project, a, bound, config, timeout, max_states)
+            yield check_assertion(config.project, a, bound, config, timeout, max_states)
 
 
-def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
-           timeout: float | None, max_states: int) -> Result:
+def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
+                    timeout: float | None, max_states: int = DEFAULT_MAX_STATES,
+                    progress: Callable[[int], None] | None = None) -> Result:
+    """The verdict of one assertion by explicit search; `progress` is told each number of visible
+    steps up to which every run has been explored."""
     start = time.perf_counter()
     deadline = time.monotonic() + timeout if timeout is not None else None
     search: Search | None = None
@@ -327,12 +337,12 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         consts = python_settings(setup.constants)
         interp = Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined))
-        search = Search(interp, q, bound, max_states, deadline)
+        search = Search(interp, q, bound, max_states, deadline, progress)
         if q.inclusion is not None and q.goals:  # equals: this direction first
             forward = _decide(a, q, search, result)
             if forward.verdict != Verdict.HOLDS:
                 return forward
-            search = Search(interp, q, bound, max_states, deadline)
+            search = Search(interp, q, bound, max_states, deadline, progress)
         if q.inclusion is not None:
             return _included(a, q, search, result)
         return _decide(a, q, search, result)

@@ -120,6 +120,10 @@ class Unbounded(Exception):
         self.name = name
         self.path = path
 
+    def __reduce__(self) -> tuple[type[Unbounded], tuple[str, str | None]]:
+        """Rebuilt from its name and path (a worker process of `check -j` raises it in the parent)."""
+        return Unbounded, (self.name, self.path)
+
 
 class NotInterpretable(Exception):
     """A construct the interpreter does not handle, at `pos`."""
@@ -128,6 +132,9 @@ class NotInterpretable(Exception):
         super().__init__(f"{pos}: not interpretable: {what}" if pos else f"not interpretable: {what}")
         self.pos = pos
         self.what = what
+
+    def __reduce__(self) -> tuple[type[NotInterpretable], tuple[ast.Pos | None, str]]:
+        return NotInterpretable, (self.pos, self.what)
 
 
 class Record(dict):
@@ -145,6 +152,10 @@ class Record(dict):
 
     def __repr__(self) -> str:
         return "Record(" + dict.__repr__(self) + ")"
+
+    def __reduce__(self) -> tuple[type[Record], tuple[dict]]:
+        """Rebuilt from a plain dict (pickle's own way fills the dict in place, which a record refuses)."""
+        return Record, (dict(self),)
 
     def with_field(self, name: str, value: object) -> Record:
         d = dict(self)

@@ -29,6 +29,10 @@ class ReplayFailure(Exception):
                          f"the interpreter can do {interpreter}")
         self.step, self.bmc, self.interpreter = step, bmc, interpreter
 
+    def __reduce__(self) -> tuple[type[ReplayFailure], tuple[int, str, str]]:
+        """Rebuilt from its parts (a worker process of `check -j` raises it in the parent)."""
+        return ReplayFailure, (self.step, self.bmc, self.interpreter)
+
 
 class _Inputs(Mapping[tuple, tuple]):
     """The values to offer on input channels: the trace's next event's, and none on any other."""

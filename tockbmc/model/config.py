@@ -56,6 +56,10 @@ class ConfigError(ValueError):
         super().__init__(message)
         self.option = option
 
+    def __reduce__(self) -> tuple[type[ConfigError], tuple[str, str]]:
+        """Rebuilt with its option (a worker process of `check -j` raises it in the parent)."""
+        return ConfigError, (str(self), self.option)
+
 
 @dataclass(frozen=True)
 class Source:

@@ -9,6 +9,7 @@ from importlib import resources
 from typing import Any
 
 from rich.console import Console
+from rich.segment import Segments
 from rich.table import Table
 from rich.text import Text
 
@@ -65,20 +66,72 @@ def configuration(r: Result) -> str:
     return line
 
 
+class ResultTable:
+    """The results table, printed a row at a time: row i as soon as results 0..i are in, whatever
+    order they are decided in (the columns have fixed widths, so each row can be printed alone)."""
+
+    def __init__(self, console: Console, names: list[str], explicit: bool = False):
+        self.console, self.names, self.explicit = console, names, explicit
+        self.results: dict[int, Result] = {}
+        self.rows = 0  # results printed as rows: those of indices below this
+        self.printed = 0  # lines of the table printed so far
+        self.widths = {"Assertion": max(len("Assertion"), *map(len, names), 1),
+                       "Result": max(len(v.value) for v in Verdict), "Time": 9, "Bound": 5, "Trace": 5,
+                       "States": 11, "Transitions": 11}
+
+    def _table(self) -> Table:
+        table = Table(title="tockbmc results", title_justify="left")
+        columns = ("Assertion", "Result", "Time", "Bound", "Trace", *(("States", "Transitions") if self.explicit else ()))
+        for col in columns:
+            table.add_column(col, justify="left" if col in ("Assertion", "Result") else "right",
+                             min_width=self.widths[col])
+        for r in (self.results[i] for i in range(self.rows)):
+            row: list[str | Text] = [r.assertion, Text(r.verdict.value, style=VERDICT_STYLE[r.verdict]),
+                                     f"{r.seconds:.2f}s", str(r.bound) if r.bound is not None else "–",
+                                     str(len(r.trace)) if r.trace else "–"]
+            if self.explicit:
+                row += [f"{r.extra['states']:,}" if "states" in r.extra else "–",
+                        f"{r.extra['transitions']:,}" if "transitions" in r.extra else "–"]
+            table.add_row(*row)
+        return table
+
+    def _print(self, final: bool) -> None:
+        """Print the lines of the table not printed yet: all but its bottom edge unless `final`."""
+        lines = self.console.render_lines(self._table(), self.console.options, pad=False, new_lines=True)
+        new = lines[self.printed:] if final else lines[self.printed:-1]
+        if new:
+            self.console.print(Segments([s for line in new for s in line]), soft_wrap=True)
+            self.printed += len(new)
+
+    def start(self) -> None:
+        """Print the title and the header."""
+        self._print(final=False)
+
+    def add(self, index: int, result: Result) -> None:
+        """Result `index` (of `names`) is in: print the rows that now can be."""
+        self.results[index] = result
+        if index == self.rows:
+            while self.rows in self.results:
+                self.rows += 1
+            self._print(final=False)
+
+    def finish(self) -> None:
+        """Print the rows still missing (every result must be in) and the bottom edge."""
+        self.rows = len(self.names)
+        self._print(final=True)
+
+
 def print_results(results: list[Result], console: Console) -> None:
-    table = Table(title="tockbmc results", title_justify="left")
-    explicit = any("states" in r.extra for r in results)  # the paper's "complexity" columns
-    columns = ("Assertion", "Result", "Time", "Bound", "Trace", *(("States", "Transitions") if explicit else ()))
-    for col in columns:
-        table.add_column(col, justify="left" if col in ("Assertion", "Result") else "right")
-    for r in results:
-        row: list[str | Text] = [r.assertion, Text(r.verdict.value, style=VERDICT_STYLE[r.verdict]), f"{r.seconds:.2f}s",
-               str(r.bound) if r.bound is not None else "–", str(len(r.trace)) if r.trace else "–"]
-        if explicit:
-            row += [f"{r.extra['states']:,}" if "states" in r.extra else "–",
-                    f"{r.extra['transitions']:,}" if "transitions" in r.extra else "–"]
-        table.add_row(*row)
-    console.print(table)
+    """The results table, then what each result says."""
+    table = ResultTable(console, [r.assertion for r in results], explicit=any("states" in r.extra for r in results))
+    for i, r in enumerate(results):
+        table.results[i] = r
+    table.finish()
+    print_details(results, console)
+
+
+def print_details(results: list[Result], console: Console) -> None:
+    """What the table's results say: the scope, then each result's reason, configuration and trace."""
     bounded = [r for r in results if r.bound is not None]
     if bounded:
         console.print(Text(_scope(bounded[0]), style="dim"))
