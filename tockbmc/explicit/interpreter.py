@@ -95,7 +95,7 @@ import itertools
 import math
 import random
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, NamedTuple
@@ -150,6 +150,140 @@ class Record(dict):
         d = dict(self)
         d[name] = value
         return Record(d)
+
+
+class Unknown:
+    """A value not chosen yet (lazy mode): stands for each of `values`, all of type `type`.
+
+    Configurations compare Unknowns by their values; the interpreter tells two of them apart by
+    identity (`is`), since each is made for one place, an input or an open initial value, and
+    never copied to another (a read that copies or inspects it raises `NeedValue` instead). Any
+    arithmetic, ordering or truth test on one raises `NeedValue` too, as a safety net.
+    """
+
+    __slots__ = ("values", "type", "_hash")
+    values: tuple
+    type: ast.Type
+    _hash: int
+
+    def __init__(self, values: tuple, type_: ast.Type) -> None:
+        object.__setattr__(self, "values", values)
+        object.__setattr__(self, "type", type_)
+        object.__setattr__(self, "_hash", hash(("unknown", values)))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Unknown is immutable")
+
+    def __eq__(self, other: object) -> bool:
+        return self is other or (type(other) is Unknown and self._hash == other._hash
+                                 and self.values == other.values and self.type == other.type)
+
+    def __ne__(self, other: object) -> bool:
+        return not self.__eq__(other)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __repr__(self) -> str:
+        return f"Unknown({self.values!r})"
+
+    def __str__(self) -> str:
+        return "?"
+
+    def _need(self, *args: object) -> Any:
+        raise NeedValue(self)
+
+    __bool__ = __lt__ = __le__ = __gt__ = __ge__ = __neg__ = _need  # type: ignore[assignment]
+    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = __rtruediv__ = _need
+    __floordiv__ = __rfloordiv__ = __mod__ = __rmod__ = _need
+
+
+class NeedValue(Exception):
+    """A step reads `unknown` (lazy mode): the configuration or input holding it must be split."""
+
+    def __init__(self, unknown: Unknown) -> None:
+        super().__init__("a value not chosen yet is read")
+        self.unknown = unknown
+
+
+def _unknown_in(v: object) -> Unknown | None:
+    """The first Unknown in a value (records and buffers looked into), or None."""
+    if isinstance(v, Unknown):
+        return v
+    if isinstance(v, (Record, tuple)):
+        for x in v.values() if isinstance(v, Record) else v:
+            u = _unknown_in(x)
+            if u is not None:
+                return u
+    return None
+
+
+def _holds(v: object, u: Unknown) -> bool:
+    """Whether `u` itself (not an equal Unknown) is in the value `v`."""
+    if v is u:
+        return True
+    if isinstance(v, Record):
+        return any(_holds(x, u) for x in v.values())
+    if isinstance(v, tuple):
+        return any(_holds(x, u) for x in v)
+    return False
+
+
+def _replace(v: object, u: Unknown, x: object) -> object:
+    """`v` with `u` itself replaced by `x`."""
+    if v is u:
+        return x
+    if isinstance(v, Record):
+        return Record({k: _replace(y, u, x) for k, y in v.items()})
+    if isinstance(v, tuple):
+        return tuple(_replace(y, u, x) for y in v)
+    return v
+
+
+def _unknowns(v: object, at: tuple, out: list[tuple[tuple, Unknown]]) -> None:
+    """Append (position, Unknown) for each Unknown in `v`, whose position is `at`."""
+    if isinstance(v, Unknown):
+        out.append((at, v))
+    elif isinstance(v, Record):
+        for k, y in v.items():
+            _unknowns(y, (*at, k), out)
+    elif isinstance(v, tuple):
+        for n, y in enumerate(v):
+            _unknowns(y, (*at, n), out)
+
+
+def _fill(v: object, chosen: dict[int, object]) -> object:
+    """`v` with each Unknown replaced by its value in `chosen` (by identity), else its first value."""
+    if isinstance(v, Unknown):
+        return chosen.get(id(v), v.values[0])
+    if isinstance(v, Record):
+        return Record({k: _fill(y, chosen) for k, y in v.items()})
+    if isinstance(v, tuple):
+        return tuple(_fill(y, chosen) for y in v)
+    return v
+
+
+def unknowns(v: object) -> tuple[list[Unknown], tuple[int, ...]]:
+    """The Unknowns in a value (records and tuples looked into), each once, in order; and for each
+    place holding one, which of them it is (`(u, u)` is not `(u, w)`, though they compare equal)."""
+    found: list[tuple[tuple, Unknown]] = []
+    _unknowns(v, (), found)
+    index: dict[int, int] = {}
+    for _, u in found:
+        index.setdefault(id(u), len(index))
+    distinct = list({id(u): u for _, u in found}.values())
+    return distinct, tuple(index[id(u)] for _, u in found)
+
+
+def fill(v: object, chosen: dict[int, object]) -> object:
+    """`v` with each Unknown `u` replaced by `chosen[id(u)]`, else by its first value."""
+    return _fill(v, chosen)
+
+
+def _at(v: object, path: tuple) -> object:
+    for k in path:
+        v = v[k]  # type: ignore[index]
+    return v
 
 
 @dataclass(frozen=True)
@@ -241,6 +375,10 @@ def _ediv(a: int, b: int) -> int:
 
 def _coerce(t: ast.Type | None, v: object) -> object:
     """`v` as a value of type `t`: integers in real places become Fractions; dicts become Records."""
+    if type(v) is Unknown:
+        if v.type == t or all(type(_coerce(t, x)) is type(x) for x in v.values):  # type: ignore[union-attr]
+            return v
+        raise NeedValue(v)  # type: ignore[arg-type]  # its values would change type: choose one
     if t == ast.REAL and isinstance(v, int) and not isinstance(v, bool):
         return Fraction(v)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
@@ -252,6 +390,11 @@ def _coerce(t: ast.Type | None, v: object) -> object:
 
 def _fits(t: ast.Type | None, v: object) -> bool:
     """Whether `v` may be stored in a place of type `t` (nat values are never negative)."""
+    if type(v) is Unknown:
+        fits = [_fits(t, x) for x in v.values]  # type: ignore[union-attr]
+        if all(fits) or not any(fits):
+            return fits[0]
+        raise NeedValue(v)  # type: ignore[arg-type]
     if t == ast.NAT:
         return not (isinstance(v, (int, Fraction)) and not isinstance(v, bool) and v < 0)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
@@ -273,6 +416,12 @@ def _to_range(r: object) -> tuple[Fraction, Fraction]:
             else:
                 raise TypeError(f"not a range: {r!r}") from None
     return Fraction(lo), Fraction(hi)
+
+
+def _worklist(todo: list) -> Iterable:
+    """The items of `todo`, last first, including those added while it is read."""
+    while todo:
+        yield todo.pop()
 
 
 # ----------------------------------------------------------------------------- static structure
@@ -425,9 +574,15 @@ class Interpreter:
     def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
                  ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
                  settings: dict[str, object] | None = None,
-                 defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None) -> None:
+                 defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None,
+                 lazy: bool = False) -> None:
         self.element = element
         self.sampler = sampler  # None: every value of every choice (the explicit engine, replay)
+        # Lazy mode (the explicit engine's search): an input or an open initial value is an Unknown
+        # until a step reads it, and then the configuration or input holding it is split into one per
+        # value (`expand`); visible events may carry Unknowns, except on the channels in `strict`.
+        self.lazy = lazy and sampler is None
+        self.strict: set[tuple] = set()
         self.ename = element.name
         self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
         self.settings = dict(settings or {})
@@ -443,6 +598,7 @@ class Interpreter:
         self.slots: list[_Slot] = []
         self._slot_of: dict[tuple, int] = {}
         self._domains: dict[tuple, list] = {}
+        self._tuples: dict[tuple, tuple] = {}
         self._shared_owners: set[str] = set()
         self.network = not isinstance(element, ast.StateMachine)
         self._shared_vars: list[ast.Variable] = []
@@ -862,6 +1018,22 @@ class Interpreter:
         n = rng.randint(lo, hi)
         return Fraction(n) if t == ast.REAL else n
 
+    def _fresh(self, t: ast.Type | None, paths: tuple[str, ...]) -> list:
+        """Lazy mode: the one value standing for every value of `t` (records field by field; a type
+        with one value is that value), or none when `t` has no value in its range."""
+        if isinstance(t, ast.RecordType):
+            parts = [self._fresh(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
+            if any(not part for part in parts):
+                return []
+            return [Record(zip([f.name for f in t.fields], [part[0] for part in parts], strict=True))]
+        key = (t, paths)
+        d = self._tuples.get(key)
+        if d is None:
+            d = self._tuples[key] = tuple(self.domain(t, paths))
+        if len(d) <= 1:
+            return list(d)
+        return [Unknown(d, t)]  # type: ignore[arg-type]
+
     def _choices(self, t: ast.Type | None, paths: tuple[str, ...] = (), limit: int | None = None) -> list:
         """The values a choice of `t` is made among: every one, or when sampling and there are more
         than `limit` (the sampler's size by default), that many drawn at random."""
@@ -890,7 +1062,12 @@ class Interpreter:
                 raise NotInterpretable(e.pos, "strings")
             return e.value
         if isinstance(e, ast.VarRef):
-            return self._get(ctx, e.variable)
+            v = self._get(ctx, e.variable)
+            if self.lazy:
+                u = _unknown_in(v)
+                if u is not None:
+                    raise NeedValue(u)
+            return v
         if isinstance(e, ast.Binary):
             op = e.op
             if op == "and":
@@ -934,10 +1111,14 @@ class Interpreter:
         if isinstance(e, ast.EnumLiteral):
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.FieldRef):
-            r = self._eval(ctx, e.record)
+            r = self._eval_ref(ctx, e.record) if self.lazy else self._eval(ctx, e.record)
             v = r.get(e.field_name) if isinstance(r, dict) else None
             if v is None:
                 raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
+            if self.lazy:
+                u = _unknown_in(v)
+                if u is not None:
+                    raise NeedValue(u)
             return v
         if isinstance(e, ast.Unary):
             v = self._eval(ctx, e.operand)
@@ -975,6 +1156,19 @@ class Interpreter:
         if isinstance(e, ast.ResultRef):
             raise NotInterpretable(e.pos, "result outside a postcondition")
         raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _eval_ref(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        """`e`'s value, which may hold Unknowns when `e` only names a variable or one of its fields
+        (lazy mode: what goes out on a visible event as it is, or a record whose field is read)."""
+        if isinstance(e, ast.VarRef):
+            return self._get(ctx, e.variable)
+        if isinstance(e, ast.FieldRef):
+            r = self._eval_ref(ctx, e.record)
+            v = r.get(e.field_name) if isinstance(r, dict) else None
+            if v is None:
+                raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
+            return v
+        return self._eval(ctx, e)
 
     def _since_slot(self, ctx: _Ctx, e: ast.SinceEntry) -> int:
         for key in (k for k in self._slot_of if k[0] == "since" and k[1] == ctx.i and k[3] == e.state):
@@ -1052,36 +1246,49 @@ class Interpreter:
                        for inst in self.insts)
         out: list[Config] = []
         seen: set[Config] = set()
-        if self.sampler is None:
-            combos: Iterable[tuple] = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
+        todo: list[tuple] = []
+        if self.lazy:  # one combination of Unknowns, split where an initial value or a deadline reads one
+            fresh = [self._fresh(t, p) for _, t, p in open_slots]
+            if any(not f for f in fresh):
+                return []
+            todo = [tuple(f[0] for f in fresh)]
+            combos: Iterable[tuple] = _worklist(todo)
+        elif self.sampler is None:
+            combos = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
         else:  # a random run needs one: draw them until the initial values fit, a bounded number of times
             if any(self._size(t, p) == 0 for _, t, p in open_slots):
                 return []
             combos = (tuple(self._draw(t, p) for _, t, p in open_slots) for _ in range(self.sampler.size))
         for combo in combos:
-            store = list(base)
-            for (s, _, _), v in zip(open_slots, combo, strict=True):
-                store[s] = v
-            ok = True
-            for s, info in deferred:
-                ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
-                assert info.var is not None and info.var.initial is not None
-                v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
-                if not _fits(info.var.type, v):
-                    ok = False
-                    break
-                store[s] = v
-            if not ok:
+            try:
+                c = self._initial_config(base, frames, open_slots, deferred, combo)
+            except NeedValue as nv:
+                k = next((k for k, v in enumerate(combo) if _holds(v, nv.unknown)), None)
+                if k is None:
+                    raise
+                todo.extend(combo[:k] + (_replace(combo[k], nv.unknown, x),) + combo[k + 1:]
+                            for x in reversed(nv.unknown.values))
                 continue
-            st = tuple(store)
-            st = self._fix_deadlines(frames, st)
-            c = Config(frames, st, False)
-            if c not in seen:
+            if c is not None and c not in seen:
                 seen.add(c)
                 out.append(c)
                 if self.sampler is not None:
                     break
         return out
+
+    def _initial_config(self, base: list, frames: tuple, open_slots: list, deferred: list,
+                        combo: tuple) -> Config | None:
+        store = list(base)
+        for (s, _, _), v in zip(open_slots, combo, strict=True):
+            store[s] = v
+        for s, info in deferred:
+            ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
+            assert info.var is not None and info.var.initial is not None
+            v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
+            if not _fits(info.var.type, v):
+                return None
+            store[s] = v
+        return Config(frames, self._fix_deadlines(frames, tuple(store)), False)
 
     def _paths_of(self, info: _Slot) -> tuple[str, ...]:
         assert info.var is not None
@@ -1250,7 +1457,7 @@ class Interpreter:
                 ctx = _Ctx(cfg.store, i)
                 if self._guard(ctx, beh, t):
                     etype = trig.event.type
-                    v = _coerce(etype, self._eval(ctx, trig.value)) if trig.value is not None else None
+                    v = _coerce(etype, self._eval_ref(ctx, trig.value)) if trig.value is not None else None
                     if etype is not None and v is None:
                         raise NotInterpretable(t.pos, "an output without a value on a typed event")
                     out.append(("out", trig.event.name, etype, v, self._take(ctx, frames, k, t)))
@@ -1269,6 +1476,9 @@ class Interpreter:
                 if not self._assign(ctx, trig.variable, (), v):
                     return []
             elif trig.kind == "sync" and trig.value is not None:
+                u = _unknown_in(v)
+                if u is not None:
+                    raise NeedValue(u)
                 if _coerce(trig.event.type, self._eval(ctx, trig.value)) != v:
                     return []
             if not self._guard(ctx, beh, t):
@@ -1296,7 +1506,7 @@ class Interpreter:
         elif isinstance(st, ast.Send):
             ctx = _Ctx(cfg.store, i)
             etype = st.event.type
-            v = _coerce(etype, self._eval(ctx, st.value)) if st.value is not None else None
+            v = _coerce(etype, self._eval_ref(ctx, st.value)) if st.value is not None else None
             if etype is not None and v is None:
                 raise NotInterpretable(st.pos, "an output without a value on a typed event")
             out.append(("out", st.event.name, etype, v, self._result(ctx, done)))
@@ -1315,7 +1525,7 @@ class Interpreter:
             d = self._resolve_call(i, st)
             if d is None:
                 params = st.operation.parameters
-                args = tuple(_coerce(p.type, self._eval(ctx, a)) for p, a in zip(params, st.args, strict=False))
+                args = tuple(_coerce(p.type, self._eval_ref(ctx, a)) for p, a in zip(params, st.args, strict=False))
                 out.append(("call", st.operation.name, params, args, self._result(ctx, done)))
             else:
                 self._call_defined(cfg, i, ctx, d, st, done, out)
@@ -1453,7 +1663,32 @@ class Interpreter:
                 return self.domain(t, paths)
             except Unbounded:
                 return []
+        if self.lazy and ch not in self.strict:
+            return self._fresh(t, paths)
         return self._choices(t, paths)
+
+    def _each(self, values: list, make: Callable[[object], list[Step]]) -> list[Step]:
+        """The steps `make(v)` for each input value `v`; where one reads an Unknown of `v` (lazy
+        mode), those of each value it stands for instead."""
+        out: list[Step] = []
+        todo = list(reversed(values))
+        while todo:
+            v = todo.pop()
+            try:
+                out.extend(make(v))
+            except NeedValue as nv:
+                if not _holds(v, nv.unknown):
+                    raise
+                todo.extend(_replace(v, nv.unknown, x) for x in reversed(nv.unknown.values))
+        return out
+
+    def _concrete(self, v: object, channel: tuple | None = None) -> None:
+        """Lazy mode: `v` is copied into the configuration, or shown on a channel in `strict`
+        (`channel` given), so its Unknowns must be chosen first."""
+        if self.lazy and (channel is None or channel in self.strict):
+            u = _unknown_in(v)
+            if u is not None:
+                raise NeedValue(u)
 
     def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
         """Every step possible from `config` (docs/semantics.md §3.2)."""
@@ -1479,6 +1714,7 @@ class Interpreter:
                 elif kind == "call":
                     _, opname, params, args, (frames, upd) = m
                     base = f"{self.ename}::{opname}Call"
+                    self._concrete(tuple(args), (base,))
                     name = base + "".join("." + value_text(p.type, a) for p, a in zip(params, args, strict=False))
                     urgent = True
                     steps.append(Step("event", Event(name, (base,), tuple(args)),
@@ -1493,16 +1729,19 @@ class Interpreter:
                     link = self.out_link.get((i, port))
                     if link is None or (link.dst is None and not link.asynchronous):
                         base = link.vis if link is not None and link.vis is not None else f"{mname}::{port}"
+                        self._concrete(v, (base, "out"))
                         steps.append(Step("event", self._event(base, "out", t, v),
                                           self._config(config, [(i, frames, upd)])))
                     elif link.asynchronous:
                         assert link.slot is not None
+                        self._concrete(v)
                         steps.append(Step("internal", None,
                                           self._config(config, [(i, frames, upd)], {link.slot: (v,)}),
                                           f"{mname}: {port} into buffer"))
                     else:
                         assert link.dst is not None
                         j, q = link.dst
+                        self._concrete(v)
                         for rm in ins_by_port.get((j, q), ()):
                             for _note, (rframes, rupd) in rm[3](v):
                                 merged = dict(upd)
@@ -1516,11 +1755,11 @@ class Interpreter:
                     links = self.in_links.get((i, port), [])
                     if not links:
                         base = f"{mname}::{port}"
-                        for v in self._inputs_for(base, t, (base, f"{self.insts[i].machine.qname}::{port}"),
-                                                  inputs):
-                            for _note, (frames, upd) in accept(v):
-                                steps.append(Step("event", self._event(base, "in", t, v),
-                                                  self._config(config, [(i, frames, upd)])))
+                        steps += self._each(
+                            self._inputs_for(base, t, (base, f"{self.insts[i].machine.qname}::{port}"), inputs),
+                            lambda v, base=base, t=t, accept=accept, i=i: [  # type: ignore[misc]
+                                Step("event", self._event(base, "in", t, v), self._config(config, [(i, frames, upd)]))
+                                for _note, (frames, upd) in accept(v)])
                     for link in links:
                         if link.asynchronous:
                             assert link.slot is not None
@@ -1533,10 +1772,11 @@ class Interpreter:
                                                   f"{note} ({port} from buffer)"))
                         elif link.src is None:
                             assert link.vis is not None
-                            for v in self._inputs_for(link.vis, t, (link.vis, f"{mname}::{port}"), inputs):
-                                for _note, (frames, upd) in accept(v):
-                                    steps.append(Step("event", self._event(link.vis, "in", t, v),
-                                                      self._config(config, [(i, frames, upd)])))
+                            steps += self._each(
+                                self._inputs_for(link.vis, t, (link.vis, f"{mname}::{port}"), inputs),
+                                lambda v, vis=link.vis, t=t, accept=accept, i=i: [  # type: ignore[misc]
+                                    Step("event", self._event(vis, "in", t, v), self._config(config, [(i, frames, upd)]))
+                                    for _note, (frames, upd) in accept(v)])
         # the environment's side of asynchronous links
         for link in self.links:
             if not link.asynchronous or link.vis is None:
@@ -1551,12 +1791,94 @@ class Interpreter:
             elif link.dst is None:
                 buf = config.store[link.slot]
                 if buf is not None:
+                    self._concrete(buf[0], (link.vis, "out"))
                     steps.append(Step("event", self._event(link.vis, "out", link.type, buf[0]),
                                       self._config(config, [], {link.slot: None})))
         tock = self._tock(config, steps, urgent)
         if tock is not None:
             steps.append(Step("tock", TOCK, tock))
         return steps
+
+    def expand(self, config: Config) -> list[tuple[Config, list[Step]]]:
+        """`config` with its steps, or (lazy mode) where its steps read one of its Unknowns, the
+        configurations it stands for, split by that Unknown's values as far as their steps need,
+        each with its steps. Each configuration returned is one whose steps read none of its
+        Unknowns, so every configuration it stands for has the same steps up to those values."""
+        out = []
+        todo = [config]
+        while todo:
+            c = todo.pop()
+            try:
+                out.append((c, self.steps(c)))
+            except NeedValue as nv:
+                todo.extend(reversed(self._split(c, nv.unknown)))
+        return out
+
+    def _split(self, config: Config, u: Unknown) -> list[Config]:
+        slot = next((s for s, v in enumerate(config.store) if _holds(v, u)), None)
+        if slot is None:  # pragma: no cover - an Unknown read must be in the configuration or an input
+            raise AssertionError(f"a step read {u!r}, which is neither in its configuration nor in an input")
+        store = config.store
+        return [Config(config.machines, (*store[:slot], _replace(store[slot], u, x), *store[slot + 1:]), config.done)
+                for x in u.values]
+
+    def concretize(self, path: list[tuple[Config, Step, Config]]) -> list[tuple[Step, tuple[str, ...]]]:
+        """The steps of a run of concrete configurations along `path`, found by a lazy search, each
+        with the fields of its input that no later step reads (any value of them gives the same run).
+
+        `path` holds, per step, the configuration it was taken from, the step (as `steps` gave it:
+        its target is computed from that configuration, and the next configuration is the target or
+        one of the configurations `expand` split it into) and the next configuration. Going back from
+        the last configuration (each Unknown at its first value), each configuration's Unknowns take
+        the values they have after the step: where the step left or moved one, its value there;
+        where the step dropped it, its first value. Each step is then one the interpreter takes
+        without Unknowns, with concrete values in its event; an AssertionError says that there is
+        none, which would be a bug in the lazy mode.
+        """
+        lazy, self.lazy = self.lazy, False
+        try:
+            if not path:
+                return []
+            last: list[tuple[tuple, Unknown]] = []
+            _unknowns(path[-1][2].store, (), last)
+            free_after = {pos for pos, _ in last}  # positions of Unknowns no later step reads
+            cur = self._filled(path[-1][2], {})
+            out: list[tuple[Step, tuple[str, ...]]] = []
+            for source, step, _nxt in reversed(path):
+                after: list[tuple[tuple, Unknown]] = []
+                _unknowns(step.target.store, (), after)
+                where = {id(u): pos for pos, u in after}
+                before: list[tuple[tuple, Unknown]] = []
+                _unknowns(source.store, (), before)
+                events: list[tuple[tuple, Unknown]] = []
+                if step.event is not None:
+                    _unknowns(step.event.values, (), events)
+                chosen: dict[int, object] = {}
+                free: set[int] = set()
+                for _, u in (*before, *events):
+                    pos = where.get(id(u))
+                    chosen[id(u)] = u.values[0] if pos is None else _at(cur.store, pos)
+                    if pos is None or pos in free_after:
+                        free.add(id(u))
+                prev = self._filled(source, chosen)
+                values = _fill(step.event.values, chosen) if step.event is not None else ()
+                match = next((s for s in self.steps(prev) if s.kind == step.kind and s.target == cur and
+                              (s.event is None or step.event is not None and s.event.channel == step.event.channel
+                               and s.event.values == values)), None)
+                if match is None:  # pragma: no cover
+                    raise AssertionError(f"the lazy search's step {step.event or step.note} has no concrete match")
+                fields = tuple(".".join(str(k) for k in pos[1:]) for pos, u in events
+                               if id(u) in free and step.event is not None and step.event.channel[-1:] == ("in",))
+                out.append((match, tuple(dict.fromkeys(fields))))
+                free_after = {pos for pos, u in before if id(u) in free}
+                cur = prev
+            out.reverse()
+            return out
+        finally:
+            self.lazy = lazy
+
+    def _filled(self, config: Config, chosen: dict[int, object]) -> Config:
+        return Config(config.machines, _fill(config.store, chosen), config.done)  # type: ignore[arg-type]
 
     def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
         """The configuration after `tock`, or None if `tock` is refused (docs/semantics.md §3.3, §4.6)."""
