@@ -166,8 +166,8 @@ class Search:
             if visible and self.monitor is not None and mon is not None:
                 nxt_mon = self._monitor_after(mon, s)
             kind = s.kind if visible else "internal"
-            out.append(Edge(Step(kind, s.event if visible else None, s.target, s.note or _hidden_note(s)),
-                            (s.target, nxt_mon), s))
+            note = s.note or (_hidden_note(s) if status == "hidden" else "")
+            out.append(Edge(Step(kind, s.event if visible else None, s.target, note), (s.target, nxt_mon), s))
         self.succ[key] = out
         self.transitions += len(out)
         return out

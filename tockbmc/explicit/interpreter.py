@@ -133,10 +133,15 @@ class NotInterpretable(Exception):
 class Record(dict):
     """A record value: a read-only, hashable dict from field names to values."""
 
-    __slots__ = ()
+    __slots__ = ("_hash",)
+    _hash: int
 
     def __hash__(self) -> int:  # type: ignore[override]
-        return hash(tuple(sorted(self.items())))
+        try:
+            return self._hash
+        except AttributeError:  # computed once: a configuration hashes its records whenever it is made
+            self._hash = hash(tuple(sorted(self.items())))
+            return self._hash
 
     def _readonly(self, *args: Any, **kwargs: Any) -> Any:
         raise TypeError("a record value is immutable")
@@ -286,11 +291,37 @@ def _at(v: object, path: tuple) -> object:
     return v
 
 
-@dataclass(frozen=True)
 class Event:
-    name: str
+    """A visible event: its channel as CSP names it, the values it carries, and FDR's name for it,
+    made from those when it is first read (most events a search makes are never printed)."""
+
+    __slots__ = ("channel", "values", "_name")
     channel: tuple
     values: tuple
+    _name: str | None
+
+    def __init__(self, name: str | None, channel: tuple, values: tuple) -> None:
+        object.__setattr__(self, "channel", channel)
+        object.__setattr__(self, "values", values)
+        object.__setattr__(self, "_name", name)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Event is immutable")
+
+    @property
+    def name(self) -> str:
+        if self._name is None:  # records list their fields in their type's order (`_coerce`, `domain`)
+            object.__setattr__(self, "_name", ".".join((*self.channel, *(value_text(None, v) for v in self.values))))
+        return self._name  # type: ignore[return-value]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Event) and self.channel == other.channel and self.values == other.values
+
+    def __hash__(self) -> int:
+        return hash((self.channel, self.values))
+
+    def __repr__(self) -> str:
+        return f"Event({self.name!r})"
 
 
 @dataclass(frozen=True)
@@ -382,7 +413,11 @@ def _coerce(t: ast.Type | None, v: object) -> object:
     if t == ast.REAL and isinstance(v, int) and not isinstance(v, bool):
         return Fraction(v)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
-        return Record({f.name: _coerce(f.type, v[f.name]) for f in t.fields if f.name in v})
+        fields = {f.name: _coerce(f.type, v[f.name]) for f in t.fields if f.name in v}
+        if isinstance(v, Record) and list(fields) == list(v) and \
+                all(x is y for x, y in zip(fields.values(), v.values(), strict=True)):
+            return v  # already a value of `t`: kept, with its hash
+        return Record(fields)
     if t in (ast.INT, ast.NAT) and isinstance(v, Fraction) and v.denominator == 1:
         return int(v)
     return v
@@ -1646,10 +1681,9 @@ class Interpreter:
     def _event(self, base: str, direction: str | None, t: ast.Type | None, v: object) -> Event:
         if direction is None:
             return Event(base, (base,), ())
-        name = f"{base}.{direction}"
         if t is None:
-            return Event(name, (base, direction), ())
-        return Event(f"{name}.{value_text(t, v)}", (base, direction), (v,))
+            return Event(f"{base}.{direction}", (base, direction), ())
+        return Event(None, (base, direction), (v,))
 
     def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...], inputs: dict | None) -> list:
         ch = (base, "in")
@@ -1715,9 +1749,8 @@ class Interpreter:
                     _, opname, params, args, (frames, upd) = m
                     base = f"{self.ename}::{opname}Call"
                     self._concrete(tuple(args), (base,))
-                    name = base + "".join("." + value_text(p.type, a) for p, a in zip(params, args, strict=False))
                     urgent = True
-                    steps.append(Step("event", Event(name, (base,), tuple(args)),
+                    steps.append(Step("event", Event(None if args else base, (base,), tuple(args)),
                                       self._config(config, [(i, frames, upd)])))
                 elif kind == "term":
                     _, (frames, upd) = m
