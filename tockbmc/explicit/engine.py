@@ -223,15 +223,16 @@ class Search:
             first = self.monitor.initial
             for e in self.context.impl.head if self.context is not None else ():
                 first = self.monitor.after(first, e)
-        start: list[Hashable] = [(part, first) for c in self.interp.initial() for part in self.parts(c)]
         todo: deque[Hashable] = deque()
-        for key in start:
-            if key not in self.depth:
+        for start in ((part, first) for c in self.interp.initial_configs() for part in self.parts(c)):
+            if self.deadline is not None and time.monotonic() > self.deadline:
+                raise TimeoutError
+            if start not in self.depth:
                 if len(self.depth) >= self.max_states:
                     raise MemoryError
-                self.depth[key] = 0
-                self.parent[key] = None
-                todo.append(key)
+                self.depth[start] = 0
+                self.parent[start] = None
+                todo.append(start)
         while todo:
             if self.deadline is not None and time.monotonic() > self.deadline:
                 raise TimeoutError

@@ -95,7 +95,7 @@ import itertools
 import math
 import random
 from collections import defaultdict
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, NamedTuple
@@ -1256,6 +1256,10 @@ class Interpreter:
     def initial(self, choices: dict[str, object] | None = None) -> list[Config]:
         """Every initial configuration: one per choice of the constants without a value and the
         variables without an initial value (over their ranges, or from `choices`)."""
+        return list(self.initial_configs(choices))
+
+    def initial_configs(self, choices: dict[str, object] | None = None) -> Iterator[Config]:
+        """`initial`'s configurations one at a time (a search may stop before there are millions)."""
         choices = choices or {}
         base: list[object] = [None] * len(self.slots)
         open_slots: list[tuple[int, ast.Type, tuple[str, ...]]] = []
@@ -1279,20 +1283,19 @@ class Interpreter:
         deferred.sort(key=lambda x: 0 if x[1].kind == "const" else 1)
         frames = tuple((Frame(inst.beh, self.behs[inst.beh].initial[None], (), False, (), (), None),)
                        for inst in self.insts)
-        out: list[Config] = []
         seen: set[Config] = set()
         todo: list[tuple] = []
         if self.lazy:  # one combination of Unknowns, split where an initial value or a deadline reads one
             fresh = [self._fresh(t, p) for _, t, p in open_slots]
             if any(not f for f in fresh):
-                return []
+                return
             todo = [tuple(f[0] for f in fresh)]
             combos: Iterable[tuple] = _worklist(todo)
         elif self.sampler is None:
             combos = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
         else:  # a random run needs one: draw them until the initial values fit, a bounded number of times
             if any(self._size(t, p) == 0 for _, t, p in open_slots):
-                return []
+                return
             combos = (tuple(self._draw(t, p) for _, t, p in open_slots) for _ in range(self.sampler.size))
         for combo in combos:
             try:
@@ -1306,10 +1309,9 @@ class Interpreter:
                 continue
             if c is not None and c not in seen:
                 seen.add(c)
-                out.append(c)
+                yield c
                 if self.sampler is not None:
                     break
-        return out
 
     def _initial_config(self, base: list, frames: tuple, open_slots: list, deferred: list,
                         combo: tuple) -> Config | None:
