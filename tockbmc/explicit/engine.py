@@ -390,16 +390,13 @@ def _check(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
 
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
-        search = Search(interpreter(a.kind in LAZY_KINDS and (q.inclusion is None or bool(q.goals))),
-                        q, bound, max_states, deadline)
-        if q.inclusion is not None and q.goals:  # equals: this direction first
-            forward = _decide(a, q, search, result)
-            if forward.verdict != Verdict.HOLDS:
-                return forward
-        if q.inclusion is not None:
-            search = Search(interpreter(False), q, bound, max_states, deadline)
-            return _included(a, q, search, result)
-        return _decide(a, q, search, result)
+        if q.inclusion is None or q.goals:  # equals: this direction first
+            search = Search(interpreter(a.kind in LAZY_KINDS), q, bound, max_states, deadline)
+            decided = _decide(a, q, search, result)
+            if q.inclusion is None or decided.verdict != Verdict.HOLDS:
+                return decided
+        search = Search(interpreter(False), q, bound, max_states, deadline)
+        return _included(a, q, search, result)
     except Unsupported as exc:
         return result(Verdict.UNSUPPORTED, exc.reason)
     except NotInterpretable as exc:

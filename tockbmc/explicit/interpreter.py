@@ -257,14 +257,14 @@ def _unknowns(v: object, at: tuple, out: list[tuple[tuple, Unknown]]) -> None:
             _unknowns(y, (*at, n), out)
 
 
-def _fill(v: object, chosen: dict[int, object]) -> object:
-    """`v` with each Unknown replaced by its value in `chosen` (by identity), else its first value."""
+def fill(v: object, chosen: dict[int, object]) -> object:
+    """`v` with each Unknown `u` replaced by `chosen[id(u)]`, else by its first value."""
     if isinstance(v, Unknown):
         return chosen.get(id(v), v.values[0])
     if isinstance(v, Record):
-        return Record({k: _fill(y, chosen) for k, y in v.items()})
+        return Record({k: fill(y, chosen) for k, y in v.items()})
     if isinstance(v, tuple):
-        return tuple(_fill(y, chosen) for y in v)
+        return tuple(fill(y, chosen) for y in v)
     return v
 
 
@@ -278,11 +278,6 @@ def unknowns(v: object) -> tuple[list[Unknown], tuple[int, ...]]:
         index.setdefault(id(u), len(index))
     distinct = list({id(u): u for _, u in found}.values())
     return distinct, tuple(index[id(u)] for _, u in found)
-
-
-def fill(v: object, chosen: dict[int, object]) -> object:
-    """`v` with each Unknown `u` replaced by `chosen[id(u)]`, else by its first value."""
-    return _fill(v, chosen)
 
 
 def _at(v: object, path: tuple) -> object:
@@ -1896,7 +1891,7 @@ class Interpreter:
                     if pos is None or pos in free_after:
                         free.add(id(u))
                 prev = self._filled(source, chosen)
-                values = _fill(step.event.values, chosen) if step.event is not None else ()
+                values = fill(step.event.values, chosen) if step.event is not None else ()
                 match = next((s for s in self.steps(prev) if s.kind == step.kind and s.target == cur and
                               (s.event is None or step.event is not None and s.event.channel == step.event.channel
                                and s.event.values == values)), None)
@@ -1913,7 +1908,7 @@ class Interpreter:
             self.lazy = lazy
 
     def _filled(self, config: Config, chosen: dict[int, object]) -> Config:
-        return Config(config.machines, _fill(config.store, chosen), config.done)  # type: ignore[arg-type]
+        return Config(config.machines, fill(config.store, chosen), config.done)  # type: ignore[arg-type]
 
     def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
         """The configuration after `tock`, or None if `tock` is refused (docs/semantics.md §3.3, §4.6)."""
