@@ -76,7 +76,7 @@ class _Strict(Exception):
         self.channel = channel
 
 
-MONITOR_CHOICES = 4096  # past this many values of an event's Unknowns, its channel's values are chosen at once
+MONITOR_CHOICES = 4096  # past this many values of an event's Unknowns, the monitor's terms are read instead
 
 
 class Search:
@@ -188,9 +188,7 @@ class Search:
         if nxt is None:
             if not unknown:
                 nxt = self.monitor.after(mon, self._event(s.kind, channel, values))
-            else:
-                if math.prod(len(u.values) for u in unknown) > MONITOR_CHOICES:
-                    raise _Strict(channel)
+            elif math.prod(len(u.values) for u in unknown) <= MONITOR_CHOICES:
                 ids = [id(u) for u in unknown]
                 nexts = {self.monitor.after(mon, self._event(s.kind, channel,
                                                              cast("tuple", fill(values, dict(zip(ids, combo))))))
@@ -198,6 +196,11 @@ class Search:
                 if len(nexts) > 1:
                     raise _Strict(channel)
                 nxt = nexts.pop()
+            else:  # too many to try: the monitor tells apart only the values its terms name (DESIGN.md)
+                named = self.monitor.fields(mon, Channel(channel, len(values)))
+                if any(named[j] for j, v in enumerate(values) if unknowns(v)[0]):
+                    raise _Strict(channel)
+                nxt = self.monitor.after(mon, self._event(s.kind, channel, cast("tuple", fill(values, {}))))
             self._after[key] = nxt
         return nxt
 

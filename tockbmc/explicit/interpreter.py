@@ -280,6 +280,15 @@ def unknowns(v: object) -> tuple[list[Unknown], tuple[int, ...]]:
     return distinct, tuple(index[id(u)] for _, u in found)
 
 
+def _assumed(v: object, assume: dict[int, object]) -> object:
+    """`v` with the Unknowns that `assume` gives a value (by identity) replaced by it."""
+    if isinstance(v, Unknown):
+        return assume.get(id(v), v)
+    if isinstance(v, Record):
+        return Record({k: _assumed(y, assume) for k, y in v.items()})
+    return v
+
+
 def _at(v: object, path: tuple) -> object:
     for k in path:
         v = v[k]  # type: ignore[index]
@@ -454,6 +463,11 @@ def _worklist(todo: list) -> Iterable:
         yield todo.pop()
 
 
+# An expression reading Unknowns is tried with each of their values, at most this many times per
+# step, before the configuration holding them is split (lazy mode).
+TOTAL = 4096
+
+
 # ----------------------------------------------------------------------------- static structure
 
 
@@ -553,13 +567,16 @@ class _Slot(NamedTuple):
 class _Ctx:
     """A configuration's store being changed: reads see the writes made so far."""
 
-    __slots__ = ("base", "upd", "i", "bind")
+    __slots__ = ("base", "upd", "i", "bind", "assume", "budget")
 
     def __init__(self, base: tuple, i: int, upd: dict | None = None) -> None:
         self.base = base
         self.upd = dict(upd) if upd else {}
         self.i = i
         self.bind: dict | None = None
+        # lazy mode: values assumed for Unknowns (by identity) while an expression is tried with each
+        self.assume: dict[int, object] | None = None
+        self.budget = TOTAL
 
     def get(self, s: int) -> object:
         u = self.upd
@@ -1087,27 +1104,63 @@ class Interpreter:
         return v
 
     def _eval(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        """The value of `e`. In lazy mode, where `e` reads Unknowns, its value if that is the same
+        for every value they stand for (tried, up to `TOTAL` evaluations), else `NeedValue`."""
+        if not self.lazy:
+            return self._ev(ctx, e)
+        try:
+            return self._ev(ctx, e)
+        except NeedValue as nv:
+            return self._total(ctx, e, nv)
+
+    def _total(self, ctx: _Ctx, e: ast.Expr, nv: NeedValue) -> Any:
+        u = nv.unknown
+        saved = ctx.assume
+        first: list[object] = []
+        try:
+            for x in u.values:
+                ctx.budget -= 1
+                if ctx.budget < 0:
+                    raise nv
+                ctx.assume = {**(saved or {}), id(u): x}
+                r = self._eval(ctx, e)
+                if first and r != first[0]:
+                    raise nv  # the value depends on u's: the configuration or input holding u is split
+                first[:1] = [r]
+        finally:
+            ctx.assume = saved
+        return first[0]
+
+    def _known(self, ctx: _Ctx, v: object) -> object:
+        """`v` read by an expression (lazy mode): its Unknowns must be ones assumed to have a value."""
+        u = _unknown_in(v)
+        if u is None:
+            return v
+        if ctx.assume:
+            v = _assumed(v, ctx.assume)
+            u = _unknown_in(v)
+        if u is not None:
+            raise NeedValue(u)
+        return v
+
+    def _ev(self, ctx: _Ctx, e: ast.Expr) -> Any:
         if isinstance(e, ast.Literal):
             if isinstance(e.value, str):
                 raise NotInterpretable(e.pos, "strings")
             return e.value
         if isinstance(e, ast.VarRef):
             v = self._get(ctx, e.variable)
-            if self.lazy:
-                u = _unknown_in(v)
-                if u is not None:
-                    raise NeedValue(u)
-            return v
+            return self._known(ctx, v) if self.lazy else v
         if isinstance(e, ast.Binary):
             op = e.op
             if op == "and":
-                return bool(self._eval(ctx, e.left)) and bool(self._eval(ctx, e.right))
+                return bool(self._ev(ctx, e.left)) and bool(self._ev(ctx, e.right))
             if op == "or":
-                return bool(self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
+                return bool(self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
             if op == "implies":
-                return (not self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
-            a = self._eval(ctx, e.left)
-            b = self._eval(ctx, e.right)
+                return (not self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
+            a = self._ev(ctx, e.left)
+            b = self._ev(ctx, e.right)
             if op == "+":
                 return a + b
             if op == "-":
@@ -1141,30 +1194,26 @@ class Interpreter:
         if isinstance(e, ast.EnumLiteral):
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.FieldRef):
-            r = self._eval_ref(ctx, e.record) if self.lazy else self._eval(ctx, e.record)
+            r = self._eval_ref(ctx, e.record) if self.lazy else self._ev(ctx, e.record)
             v = r.get(e.field_name) if isinstance(r, dict) else None
             if v is None:
                 raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
-            if self.lazy:
-                u = _unknown_in(v)
-                if u is not None:
-                    raise NeedValue(u)
-            return v
+            return self._known(ctx, v) if self.lazy else v
         if isinstance(e, ast.Unary):
-            v = self._eval(ctx, e.operand)
+            v = self._ev(ctx, e.operand)
             if e.op == "not":
                 return not v
             if e.op == "-":
                 return -v
             raise NotInterpretable(e.pos, f"operator {e.op}")
         if isinstance(e, ast.IfExpr):
-            return self._eval(ctx, e.then) if self._eval(ctx, e.condition) else self._eval(ctx, e.otherwise)
+            return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)
         if isinstance(e, ast.RecordLiteral):
             t = e.type
             given = dict(e.fields)
             if isinstance(t, ast.RecordType) and any(f.name not in given for f in t.fields):
                 raise NotInterpretable(e.pos, "a record literal omitting fields")
-            return _coerce(t, Record({n: self._eval(ctx, x) for n, x in e.fields}))
+            return _coerce(t, Record({n: self._ev(ctx, x) for n, x in e.fields}))
         if isinstance(e, ast.Since):
             return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
         if isinstance(e, ast.SinceEntry):
@@ -1173,14 +1222,14 @@ class Interpreter:
             f = e.function
             if f.definition is None:
                 raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
-            args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
+            args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
             saved = ctx.bind
             ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
             try:
-                if not all(self._eval(ctx, pre) is True for pre in f.preconditions):
+                if not all(self._ev(ctx, pre) is True for pre in f.preconditions):
                     # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
                     raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
-                return self._eval(ctx, f.definition)
+                return self._ev(ctx, f.definition)
             finally:
                 ctx.bind = saved
         if isinstance(e, ast.ResultRef):
