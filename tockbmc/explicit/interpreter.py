@@ -95,10 +95,10 @@ import itertools
 import math
 import random
 from collections import defaultdict
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
 from tockbmc.model.numbers import int_text, real_text
@@ -461,6 +461,25 @@ def _worklist(todo: list) -> Iterable:
     """The items of `todo`, last first, including those added while it is read."""
     while todo:
         yield todo.pop()
+
+
+class _Given(Mapping[tuple, tuple]):
+    """Inputs for `Interpreter.steps`: `values` on `channel`, and no value on any other channel."""
+
+    def __init__(self, channel: tuple | None, values: tuple) -> None:
+        self.channel, self.given = channel, values
+
+    def __getitem__(self, channel: tuple) -> tuple:
+        return self.given if channel == self.channel else ()
+
+    def __contains__(self, channel: object) -> bool:
+        return True
+
+    def __iter__(self) -> Iterator[tuple]:
+        return iter([self.channel or ()])
+
+    def __len__(self) -> int:
+        return 1
 
 
 # An expression reading Unknowns is tried with each of their values, at most this many times per
@@ -1731,12 +1750,15 @@ class Interpreter:
             return Event(f"{base}.{direction}", (base, direction), ())
         return Event(None, (base, direction), (v,))
 
-    def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...], inputs: dict | None) -> list:
+    def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...],
+                    inputs: Mapping[tuple, tuple] | None) -> list:
         ch = (base, "in")
         if inputs and ch in inputs:
             given = inputs[ch]
             if t is None:
                 return [None]
+            if given == ():  # no value offered on this channel
+                return []
             return [_coerce(t, given[0] if isinstance(given, tuple) else given)]
         if inputs is not None:  # values given for some channels (replay): the others offer their range if any
             try:
@@ -1770,7 +1792,7 @@ class Interpreter:
             if u is not None:
                 raise NeedValue(u)
 
-    def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
+    def steps(self, config: Config, inputs: Mapping[tuple, tuple] | None = None) -> list[Step]:
         """Every step possible from `config` (docs/semantics.md §3.2)."""
         if config.done:
             return []
@@ -1940,8 +1962,9 @@ class Interpreter:
                     if pos is None or pos in free_after:
                         free.add(id(u))
                 prev = self._filled(source, chosen)
-                values = fill(step.event.values, chosen) if step.event is not None else ()
-                match = next((s for s in self.steps(prev) if s.kind == step.kind and s.target == cur and
+                values = cast("tuple", fill(step.event.values, chosen)) if step.event is not None else ()
+                only = _Given(step.event.channel if step.event is not None else None, values)
+                match = next((s for s in self.steps(prev, only) if s.kind == step.kind and s.target == cur and
                               (s.event is None or step.event is not None and s.event.channel == step.event.channel
                                and s.event.values == values)), None)
                 if match is None:  # pragma: no cover
