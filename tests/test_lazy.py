@@ -130,6 +130,33 @@ def test_an_input_no_guard_reads_is_one_step() -> None:
     assert [p.store for p, _ in parts] != [move.target.store] and len(parts) == 3
 
 
+def test_an_expression_with_one_value_for_every_input_splits_nothing() -> None:
+    """With the nominal ranges no time is negative and no distance big: UR's guards and
+    check_big_dist read the move's time and distances, but their values are the same whatever
+    those are, so no configuration reached holds a chosen time or distance."""
+    ur = tockbmc.load(EXAMPLE).element("UR")
+    it = Interpreter(ur, {"core_int": (F(0), F(2)), "core_real": (F(-1), F(1)), "core_nat": (F(0), F(3))},  # type: ignore[arg-type]
+                     lazy=True)
+    slot = next(k for k, info in enumerate(it.slots) if info.display == "UR.ur_move")
+    layer = [p for c in it.initial() for p, _ in it.expand(c)]
+    seen = set(layer)
+    steps = {p: ps for c in it.initial() for p, ps in it.expand(c)}
+    for _ in range(30):
+        nxt = []
+        for c in layer:
+            for s in steps[c]:
+                for p, ps in it.expand(s.target):
+                    if p not in seen:
+                        seen.add(p)
+                        steps[p] = ps
+                        nxt.append(p)
+        layer = nxt
+    moves = [c.store[slot] for c in seen]
+    assert any(m["blending"] is True for m in moves) and any(m["blending"] is False for m in moves)
+    assert any("moveL_with_t" in it.states(c)["UR"] and c.store[slot]["blending"] is False for c in seen)
+    assert all(isinstance(m[f], Unknown) for m in moves for f in ("dist1", "dist2", "time"))
+
+
 REALISTIC = Ranges({"core_int": Range(F(-1), F(1)), "core_real": Range(F(-1), F(1)), "core_nat": Range(F(0), F(3))})
 
 
