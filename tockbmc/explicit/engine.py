@@ -7,7 +7,9 @@ counterexample has as few visible steps as any, and it stops at `bound`
 visible steps or at `max_states` configurations (then the verdict is
 `unknown`).  Specifications of `refines` run as the same monitors BMC uses,
 fed with the interpreter's concrete events.  The number of configurations and
-transitions explored is reported, like FDR's "states" and "transitions".
+transitions explored is reported, like FDR's "states" and "transitions".  Inputs
+are chosen lazily, where a step depends on them (`Search`; DESIGN.md, "Lazy
+inputs"), and counterexamples are made concrete afterwards.
 """
 
 from __future__ import annotations
@@ -84,9 +86,9 @@ class Search:
 
     A node is a configuration and a monitor state. With a lazy interpreter, a configuration may
     hold Unknowns (inputs and open initial values no step has read yet); the search's nodes are the
-    configurations `Interpreter.expand` gives, whose steps read none of their Unknowns, so that every
-    configuration a node stands for has the same steps, and a condition on one node (no tock, no
-    step, terminated, in a state, a dead monitor) holds of all of them. A step whose event carries
+    configurations `Interpreter.expand` gives, whose steps do not depend on their Unknowns' values,
+    so that every configuration a node stands for has the same steps, and a condition on one node
+    (no tock, no step, terminated, in a state, a dead monitor) holds of all of them. A step whose event carries
     Unknowns to the monitor must lead to one monitor state whatever their values; otherwise the
     channel's values are chosen at once (`Interpreter.strict`) and the search starts again.
     """
@@ -146,7 +148,9 @@ class Search:
                 self.parts(config)
                 hit = self.raw[config]
             else:
-                hit = self.raw[config] = (config, self.interp.steps(config))
+                hit = (config, self.interp.steps(config))
+                if self.monitor is not None:  # kept for the configuration's other monitor states
+                    self.raw[config] = hit
         raw = hit[1]
         out: list[Edge] = []
         hidden_possible = False

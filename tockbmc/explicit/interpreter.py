@@ -54,6 +54,14 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   than listed, and types with no range take the sampler's windows. Whether an input trigger with a
   deadline is armed is then decided on at most 4096 of its values. Without one, every value is
   taken, as the explicit engine and replay need.
+* **Lazy mode** (`lazy=True`, the explicit engine's search): an input's value, field by field,
+  and at the start a variable's without an initial value or a constant's without a value, is an
+  `Unknown` until a step depends on it. An expression reading Unknowns is tried with each of their
+  values; if its value differs, or a value is copied, `NeedValue` says which Unknown, and
+  `expand` splits the configuration (or `steps` the input) holding it into one per value. Visible
+  events carry Unknowns as they are, except on the channels in `strict`. `concretize` turns a run
+  found this way into one of concrete configurations. Without it (replay, `simulate`, the
+  deadlock search), every value is taken.
 * **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
   division by zero is `NotInterpretable`. `/` on reals is exact.
 * **Functions.** `postcondition result == e` defines `f` inside its preconditions (a call outside
