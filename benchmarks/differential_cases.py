@@ -119,11 +119,34 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
     return [*lines, "  }"]
 
 
-def assertions_text(states: list[str], pick: Callable[[list], object]) -> str:
+def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False) -> str:
+    """Nine assertions of M; with `specs`, also four refinements of specifications that tell some
+    values of M's events apart (an input, an output, a call), after the nine."""
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
              f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates",
              "M is divergence-free", "M is deterministic"]
-    return "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms))
+    text = "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms))
+    if specs:
+        text += SPECS
+    return text
+
+
+# Each names values of one of M's channels (its input a, its output b, its call op), and lets M
+# terminate (`Ends`): CHAOS cannot do ✓, which M does after its terminate.
+SPECS = """timed csp Specs csp-begin
+Timed(OneStep) {
+  Ends(P) = P [| {|M::terminate|} |> SKIP
+  NoB1 = Ends(CHAOS(diff(Events, {M::b.out.1})))
+  NoCall0 = Ends(CHAOS(diff(Events, {M::opCall.0})))
+  AnswerA1 = let Def = (CHAOS(Events) [| {M::a.in.1} |> ADeadline({|M::b.out|}, 1)); Def within Ends(timed_priority(Def))
+  NoA0AfterB0 = Ends(CHAOS(Events) [| {M::b.out.0} |> CHAOS(diff(Events, {M::a.in.0})))
+}
+csp-end
+timed assertion R0: M refines NoB1 in the traces model.
+timed assertion R1: M refines NoCall0 in the traces model.
+timed assertion R2: M refines AnswerA1 in the traces model.
+timed assertion R3: M refines NoA0AfterB0 in the traces model.
+"""
 
 
 @dataclass
@@ -230,9 +253,10 @@ def _visible(r: Result) -> int:
     return sum(1 for s in r.trace if s.kind != "internal")
 
 
-def random_case(seed: int, controllers: float = 0.25) -> tuple[str, str]:
-    """The case of a seed: a random machine, or with probability `controllers` a random controller."""
+def random_case(seed: int, controllers: float = 0.25, specs: bool = False) -> tuple[str, str]:
+    """The case of a seed: a random machine, or with probability `controllers` a random controller;
+    with `specs`, refinements of specifications too (`assertions_text`)."""
     rng = random.Random(seed)
     make = network_text if rng.random() < controllers else machine_text
     rct, states = make(rng.choice, rng.randint)
-    return rct, assertions_text(states, rng.choice)
+    return rct, assertions_text(states, rng.choice, specs)

@@ -9,7 +9,8 @@ whole run (loading the model included).  With `--engine explicit` (core_nat=0..3
 explicit engine needs every range finite) the configurations and transitions explored are printed
 beside FDR's states and transitions: they differ because FDR counts the states of the compiled
 tock-CSP process (hidden bookkeeping events, its own data ranges, normalised specification),
-while the interpreter counts concrete configurations reached, one per internal step.
+while the interpreter counts configurations reached, one per internal step, a configuration
+whose input values no step has read yet counting once for all of them (DESIGN.md, "Lazy inputs").
 """
 
 from __future__ import annotations

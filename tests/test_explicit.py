@@ -69,10 +69,10 @@ def test_explicit_engine_needs_finite_ranges() -> None:
 
 def test_state_limit_gives_unknown() -> None:
     result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A6", "--engine", "explicit", "--range",
-                                      "core_int=0..2", "--range", "core_real=-1..1", "--max-states", "50",
+                                      "core_int=0..2", "--range", "core_real=-1..1", "--max-states", "20",
                                       "--format", "json"])
     [r] = json.loads(result.output)["results"]
-    assert r["verdict"] == "unknown" and "state limit" in r["reason"] and r["states"] <= 50
+    assert r["verdict"] == "unknown" and "state limit" in r["reason"] and r["states"] <= 20
 
 
 def test_simulate_prints_a_reproducible_random_run() -> None:

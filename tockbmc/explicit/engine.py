@@ -7,19 +7,23 @@ counterexample has as few visible steps as any, and it stops at `bound`
 visible steps or at `max_states` configurations (then the verdict is
 `unknown`).  Specifications of `refines` run as the same monitors BMC uses,
 fed with the interpreter's concrete events.  The number of configurations and
-transitions explored is reported, like FDR's "states" and "transitions".
+transitions explored is reported, like FDR's "states" and "transitions".  Inputs
+are chosen lazily, where a step depends on them (`Search`; DESIGN.md, "Lazy
+inputs"), and counterexamples are made concrete afterwards.
 """
 
 from __future__ import annotations
 
+import itertools
+import math
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Iterable, Iterator
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from fractions import Fraction
-from typing import cast
+from typing import NamedTuple, cast
 
-from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step
+from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, fill, unknowns
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
@@ -33,6 +37,8 @@ from tockbmc.properties.queries import query
 from tockbmc.properties.spec import Channel, EnumValue, Monitor, TooLarge
 
 DEFAULT_MAX_STATES = 1_000_000
+# The assertions searched lazily: each decided by a condition on one node at a time.
+LAZY_KINDS = ("refines", "equals", "terminates", "timelock-free", "reachable")
 
 
 def ranges_dict(ranges: Ranges) -> dict[str, tuple[Fraction, Fraction]]:
@@ -55,14 +61,38 @@ def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
     return {name: python(name, e) for name, e in settings.items()}
 
 
-@dataclass
-class _Node:
-    config: Config
-    monitor: int | None
+class Edge(NamedTuple):
+    """A step of the search: as it counts (an event its context hides is internal), the node it
+    leads to (with a lazy interpreter, before `Search.parts` splits its configuration), and the
+    step as the interpreter gave it."""
+
+    step: Step
+    node: Hashable
+    raw: Step
+
+
+class _Strict(Exception):
+    """The specification tells apart values of `channel` that the lazy search left unchosen."""
+
+    def __init__(self, channel: tuple) -> None:
+        super().__init__(f"values of {channel} are told apart")
+        self.channel = channel
+
+
+MONITOR_CHOICES = 4096  # past this many values of an event's Unknowns, the monitor's terms are read instead
 
 
 class Search:
-    """One assertion's search; `found(node, steps)` says whether a node is a target."""
+    """One assertion's search; `found(node, steps)` says whether a node is a target.
+
+    A node is a configuration and a monitor state. With a lazy interpreter, a configuration may
+    hold Unknowns (inputs and open initial values no step has read yet); the search's nodes are the
+    configurations `Interpreter.expand` gives, whose steps do not depend on their Unknowns' values,
+    so that every configuration a node stands for has the same steps, and a condition on one node
+    (no tock, no step, terminated, in a state, a dead monitor) holds of all of them. A step whose event carries
+    Unknowns to the monitor must lead to one monitor state whatever their values; otherwise the
+    channel's values are chosen at once (`Interpreter.strict`) and the search starts again.
+    """
 
     def __init__(self, interp: Interpreter, q: Query, bound: int, max_states: int, deadline: float | None,
                  progress: Callable[[int], None] | None = None):
@@ -78,20 +108,55 @@ class Search:
             except TooLarge:
                 raise Unsupported(None, "the specification has too many states") from None
         self.literals = _literals(q)
+        self._after: dict[tuple, int] = {}
+        self._reset()
+
+    def _reset(self) -> None:
         self.transitions = 0
         self.complete = True  # every configuration within the bound was expanded
-        self.parent: dict[Hashable, tuple[Hashable, Step] | None] = {}
+        self.parent: dict[Hashable, tuple[Hashable, Edge] | None] = {}
         self.depth: dict[Hashable, int] = {}
-        self.succ: dict[Hashable, list[tuple[Step, Hashable]]] = {}
+        self.succ: dict[Hashable, list[Edge]] = {}
+        self.raw: dict[Config, tuple[Config, list[Step]]] = {}  # the canonical configuration and its steps
+        self.split: dict[Config, list[Config]] = {}  # a configuration to the canonical ones it stands for
 
     # --- the element in its CSP context
 
-    def steps(self, key: Hashable) -> list[tuple[Step, Hashable]]:
+    def parts(self, config: Config) -> list[Config]:
+        """The configurations that are nodes for `config` (itself unless the interpreter splits it)."""
+        if not self.interp.lazy:
+            return [config]
+        hit = self.raw.get(config)
+        if hit is not None:
+            return [hit[0]]
+        parts = self.split.get(config)
+        if parts is not None:
+            return parts
+        parts = []
+        for part, steps in self.interp.expand(config):
+            known = self.raw.get(part)
+            if known is None:
+                known = self.raw[part] = (part, steps)
+            parts.append(known[0])
+        if len(parts) != 1 or parts[0] is not config:
+            self.split[config] = parts
+        return parts
+
+    def steps(self, key: Hashable) -> list[Edge]:
         if key in self.succ:
             return self.succ[key]
         config, mon = cast("tuple[Config, int | None]", key)
-        out: list[tuple[Step, Hashable]] = []
-        raw = self.interp.steps(config)
+        hit = self.raw.get(config)
+        if hit is None:
+            if self.interp.lazy:
+                self.parts(config)
+                hit = self.raw[config]
+            else:
+                hit = (config, self.interp.steps(config))
+                if self.monitor is not None:  # kept for the configuration's other monitor states
+                    self.raw[config] = hit
+        raw = hit[1]
+        out: list[Edge] = []
         hidden_possible = False
         classified = []
         for s in raw:
@@ -107,10 +172,10 @@ class Search:
             visible = s.kind in ("event", "tock") and status != "hidden"
             nxt_mon = mon
             if visible and self.monitor is not None and mon is not None:
-                nxt_mon = self.monitor.after(mon, self._event(s))
+                nxt_mon = self._monitor_after(mon, s)
             kind = s.kind if visible else "internal"
-            out.append((Step(kind, s.event if visible else None, s.target, s.note or _hidden_note(s)),
-                        (s.target, nxt_mon)))
+            note = s.note or (_hidden_note(s) if status == "hidden" else "")
+            out.append(Edge(Step(kind, s.event if visible else None, s.target, note), (s.target, nxt_mon), s))
         self.succ[key] = out
         self.transitions += len(out)
         return out
@@ -121,30 +186,64 @@ class Search:
         ch = s.event.channel
         return self.context.status(ch, len(s.event.values))
 
-    def _event(self, s: Step) -> tuple:
-        assert s.event is not None
-        if s.kind == "tock":
+    def _monitor_after(self, mon: int, s: Step) -> int:
+        """The monitor's state after `s`'s event, the same for every value its Unknowns stand for."""
+        assert self.monitor is not None and s.event is not None
+        channel, values = s.event.channel, s.event.values
+        unknown, sharing = unknowns(values)
+        key = (mon, s.kind, channel, values, sharing)
+        nxt = self._after.get(key)
+        if nxt is None:
+            if not unknown:
+                nxt = self.monitor.after(mon, self._event(s.kind, channel, values))
+            elif math.prod(len(u.values) for u in unknown) <= MONITOR_CHOICES:
+                ids = [id(u) for u in unknown]
+                nexts = {self.monitor.after(mon, self._event(s.kind, channel,
+                                                             cast("tuple", fill(values, dict(zip(ids, combo))))))
+                         for combo in itertools.product(*(u.values for u in unknown))}
+                if len(nexts) > 1:
+                    raise _Strict(channel)
+                nxt = nexts.pop()
+            else:  # too many to try: the monitor tells apart only the values its terms name (DESIGN.md)
+                named = self.monitor.fields(mon, Channel(channel, len(values)))
+                if any(named[j] for j, v in enumerate(values) if unknowns(v)[0]):
+                    raise _Strict(channel)
+                nxt = self.monitor.after(mon, self._event(s.kind, channel, cast("tuple", fill(values, {}))))
+            self._after[key] = nxt
+        return nxt
+
+    def _event(self, kind: str, channel: tuple, values: tuple) -> tuple:
+        if kind == "tock":
             return ("tock",)
-        return (*s.event.channel, *(self.literals.get(v, v) if isinstance(v, str) else v for v in s.event.values))
+        return (*channel, *(self.literals.get(v, v) if isinstance(v, str) else v for v in values))
 
     # --- breadth-first by visible steps
 
-    def run(self, found: Callable[[Hashable, list[tuple[Step, Hashable]]], str | None]) -> tuple[Hashable, str] | None:
+    def run(self, found: Callable[[Hashable, list[Edge]], str | None]) -> tuple[Hashable, str] | None:
         """The first target node (as few visible steps as possible) and why, or None."""
+        while True:
+            try:
+                return self._run(found)
+            except _Strict as exc:
+                self.interp.strict.add(exc.channel)
+                self._reset()
+
+    def _run(self, found: Callable[[Hashable, list[Edge]], str | None]) -> tuple[Hashable, str] | None:
         first = None
         if self.monitor is not None:
             first = self.monitor.initial
             for e in self.context.impl.head if self.context is not None else ():
                 first = self.monitor.after(first, e)
-        start: list[Hashable] = [(c, first) for c in self.interp.initial()]
         todo: deque[Hashable] = deque()
-        for key in start:
-            if key not in self.depth:
+        for start in ((part, first) for c in self.interp.initial_configs() for part in self.parts(c)):
+            if self.deadline is not None and time.monotonic() > self.deadline:
+                raise TimeoutError
+            if start not in self.depth:
                 if len(self.depth) >= self.max_states:
                     raise MemoryError
-                self.depth[key] = 0
-                self.parent[key] = None
-                todo.append(key)
+                self.depth[start] = 0
+                self.parent[start] = None
+                todo.append(start)
         while todo:
             if self.deadline is not None and time.monotonic() > self.deadline:
                 raise TimeoutError
@@ -160,58 +259,70 @@ class Search:
             why = found(key, succ)
             if why is not None:
                 return key, why
-            for step, nxt in succ:
-                cost = 0 if step.kind == "internal" else 1
+            for edge in succ:
+                cost = 0 if edge.step.kind == "internal" else 1
                 if d + cost > self.bound:
                     self.complete = False
                     continue
-                if nxt in self.depth and self.depth[nxt] <= d + cost:
-                    continue
-                if len(self.depth) >= self.max_states:
-                    raise MemoryError
-                self.depth[nxt] = d + cost
-                self.parent[nxt] = (key, step)
-                if cost == 0:
-                    todo.appendleft(nxt)
-                else:
-                    todo.append(nxt)
+                target, mon = cast("tuple[Config, int | None]", edge.node)
+                parts = self.parts(target)
+                self.transitions += len(parts) - 1  # a step into each configuration the target stands for
+                for part in parts:
+                    nxt = (part, mon)
+                    if nxt in self.depth and self.depth[nxt] <= d + cost:
+                        continue
+                    if len(self.depth) >= self.max_states:
+                        raise MemoryError
+                    self.depth[nxt] = d + cost
+                    self.parent[nxt] = (key, edge)
+                    if cost == 0:
+                        todo.appendleft(nxt)
+                    else:
+                        todo.append(nxt)
         return None
 
     def trace(self, key: Hashable) -> tuple[TraceStep, ...]:
-        path: list[Step] = []
+        """The run to `key`, in concrete values (the lazy interpreter's Unknowns chosen)."""
+        path: list[tuple[Config, Step, Config]] = []
+        node = key
         cur = self.parent.get(key)
         while cur is not None:
-            prev, step = cur
-            path.append(step)
+            prev, edge = cur
+            path.append((prev[0], edge.raw, node[0]))  # type: ignore[index]
+            node = prev
             cur = self.parent.get(prev)
         path.reverse()
+        raws = self.interp.concretize(path) if self.interp.lazy else [(raw, ()) for _, raw, _ in path]
         out = []
-        for i, s in enumerate(path):
+        for i, (s, free) in enumerate(raws):
             states = self.interp.states(s.target)
-            if s.kind == "internal":
-                out.append(TraceStep(i + 1, None, "internal", s.note, states, {}))
+            if s.kind == "internal" or self._status(s) == "hidden":
+                out.append(TraceStep(i + 1, None, "internal", s.note or _hidden_note(s), states, {}))
             else:
                 assert s.event is not None
-                out.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values))
+                out.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values,
+                                     free=free))
         return tuple(out)
 
     def time_only(self, alive: Callable[[Hashable], bool]) -> Hashable | None:
         """The nearest explored configuration from which only tock is ever possible (every
-        configuration it reaches offers tock alone), if any: a greatest fixpoint."""
+        configuration it reaches offers tock alone), if any: a greatest fixpoint (of an eager
+        search: a lazy one's nodes stand for configurations whose futures may differ)."""
         doomed = {k for k, succ in self.succ.items()
-                  if alive(k) and succ and all(s.kind == "tock" for s, _ in succ)}
+                  if alive(k) and succ and all(e.step.kind == "tock" for e in succ)}
         changed = True
         while changed:
             changed = False
             for k in list(doomed):
-                if any(n not in doomed for _, n in self.succ[k]):
+                if any(e.node not in doomed for e in self.succ[k]):
                     doomed.discard(k)
                     changed = True
         return min(doomed, key=lambda k: self.depth[k]) if doomed else None
 
     def cycle(self, edge: Callable[[Step], bool], where: Callable[[Hashable], bool]) -> Hashable | None:
         """A node (explored, where `where` holds) on a cycle of steps for which `edge` holds."""
-        graph = {k: [n for s, n in succ if edge(s) and n in self.succ] for k, succ in self.succ.items() if where(k)}
+        graph = {k: [e.node for e in succ if edge(e.step) and e.node in self.succ] for k, succ in self.succ.items()
+                 if where(k)}
         done: set[Hashable] = set()
         for root in graph:
             if root in done:
@@ -236,7 +347,7 @@ class Search:
         """The explored node nearest the start (fewest visible steps) that lies on a cycle of steps
         for which `edge` holds: the nodes of strongly connected components with a cycle (Tarjan's
         algorithm, iteratively)."""
-        graph = {k: [n for s, n in succ if edge(s) and n in self.succ] for k, succ in self.succ.items()}
+        graph = {k: [e.node for e in succ if edge(e.step) and e.node in self.succ] for k, succ in self.succ.items()}
         index: dict[Hashable, int] = {}
         low: dict[Hashable, int] = {}
         on_stack: set[Hashable] = set()
@@ -336,16 +447,19 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         setup = config.setup(a, q.element, q.settings)
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         consts = python_settings(setup.constants)
-        interp = Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined))
-        search = Search(interp, q, bound, max_states, deadline, progress)
-        if q.inclusion is not None and q.goals:  # equals: this direction first
-            forward = _decide(a, q, search, result)
-            if forward.verdict != Verdict.HOLDS:
-                return forward
-            search = Search(interp, q, bound, max_states, deadline, progress)
-        if q.inclusion is not None:
-            return _included(a, q, search, result)
-        return _decide(a, q, search, result)
+
+        def interpreter(lazy: bool) -> Interpreter:
+            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy)
+
+        # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
+        # greatest fixpoint and the traces the specification lists are searched over every value.
+        if q.inclusion is None or q.goals:  # equals: this direction first
+            search = Search(interpreter(a.kind in LAZY_KINDS), q, bound, max_states, deadline, progress)
+            decided = _decide(a, q, search, result)
+            if q.inclusion is None or decided.verdict != Verdict.HOLDS:
+                return decided
+        search = Search(interpreter(False), q, bound, max_states, deadline, progress)
+        return _included(a, q, search, result)
     except Unsupported as exc:
         return result(Verdict.UNSUPPORTED, exc.reason)
     except NotInterpretable as exc:
@@ -395,7 +509,7 @@ def _performs(search: Search, t: SpecTrace) -> bool:
         config = cast("tuple[Config, None]", node_key)[0]
         if i == len(names) and (not t.ticks or search.interp.terminated(config)):
             return True
-        for step, nxt in search.steps((config, None)):
+        for step, nxt, _ in search.steps((config, None)):
             node: tuple[Hashable, int]
             if step.kind == "internal":
                 node = (nxt, i)
@@ -422,11 +536,11 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
     def done(holds_reason: str) -> Result:
         return result(Verdict.HOLDS, f"{holds_reason}; {scope()}")
 
-    def internal(succ: list) -> bool:
-        return any(s.kind == "internal" for s, _ in succ)
+    def internal(succ: list[Edge]) -> bool:
+        return any(e.step.kind == "internal" for e in succ)
 
-    def tock(succ: list) -> bool:
-        return any(s.kind == "tock" for s, _ in succ)
+    def tock(succ: list[Edge]) -> bool:
+        return any(e.step.kind == "tock" for e in succ)
 
     def terminated(key: Hashable) -> bool:
         return interp.terminated(key[0])  # type: ignore[index]
@@ -591,7 +705,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
         seen = set(nodes)
         todo = list(seen)
         while todo:
-            for step, nxt in search.steps(todo.pop()):
+            for step, nxt, _raw in search.steps(todo.pop()):
                 if step.kind == "internal" and nxt not in seen:
                     if len(seen) >= search.max_states:
                         raise MemoryError
@@ -610,10 +724,10 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
             if search.deadline is not None and time.monotonic() > search.deadline:
                 raise TimeoutError
             nodes, trace = todo.popleft()
-            offers = {n: {_label(st) for st, _ in search.steps(n) if st.kind != "internal"} for n in nodes}
+            offers = {n: {_label(e.step) for e in search.steps(n) if e.step.kind != "internal"} for n in nodes}
             everything = set().union(*offers.values())
             for n in nodes:
-                if any(st.kind == "internal" for st, _ in search.steps(n)):
+                if any(e.step.kind == "internal" for e in search.steps(n)):
                     continue  # not stable: it refuses nothing yet
                 refused = sorted(everything - offers[n])
                 if refused:
@@ -629,8 +743,8 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
                     search.complete = False
                 continue
             for event in sorted(everything):
-                successors = closure(nxt for n in nodes for st, nxt in search.steps(n)
-                                     if st.kind != "internal" and _label(st) == event)
+                successors = closure(e.node for n in nodes for e in search.steps(n)
+                                     if e.step.kind != "internal" and _label(e.step) == event)
                 if successors not in visited:
                     visited.add(successors)
                     todo.append((successors, (*trace, event)))

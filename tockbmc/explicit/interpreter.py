@@ -54,6 +54,14 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   than listed, and types with no range take the sampler's windows. Whether an input trigger with a
   deadline is armed is then decided on at most 4096 of its values. Without one, every value is
   taken, as the explicit engine and replay need.
+* **Lazy mode** (`lazy=True`, the explicit engine's search): an input's value, field by field,
+  and at the start a variable's without an initial value or a constant's without a value, is an
+  `Unknown` until a step depends on it. An expression reading Unknowns is tried with each of their
+  values; if its value differs, or a value is copied, `NeedValue` says which Unknown, and
+  `expand` splits the configuration (or `steps` the input) holding it into one per value. Visible
+  events carry Unknowns as they are, except on the channels in `strict`. `concretize` turns a run
+  found this way into one of concrete configurations. Without it (replay, `simulate`, the
+  deadlock search), every value is taken.
 * **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
   division by zero is `NotInterpretable`. `/` on reals is exact.
 * **Functions.** `postcondition result == e` defines `f` inside its preconditions (a call outside
@@ -95,10 +103,10 @@ import itertools
 import math
 import random
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
 from tockbmc.model.numbers import int_text, real_text
@@ -140,10 +148,15 @@ class NotInterpretable(Exception):
 class Record(dict):
     """A record value: a read-only, hashable dict from field names to values."""
 
-    __slots__ = ()
+    __slots__ = ("_hash",)
+    _hash: int
 
     def __hash__(self) -> int:  # type: ignore[override]
-        return hash(tuple(sorted(self.items())))
+        try:
+            return self._hash
+        except AttributeError:  # computed once: a configuration hashes its records whenever it is made
+            self._hash = hash(tuple(sorted(self.items())))
+            return self._hash
 
     def _readonly(self, *args: Any, **kwargs: Any) -> Any:
         raise TypeError("a record value is immutable")
@@ -163,11 +176,175 @@ class Record(dict):
         return Record(d)
 
 
-@dataclass(frozen=True)
+class Unknown:
+    """A value not chosen yet (lazy mode): stands for each of `values`, all of type `type`.
+
+    Configurations compare Unknowns by their values; the interpreter tells two of them apart by
+    identity (`is`), since each is made for one place, an input or an open initial value, and
+    never copied to another (a read that copies or inspects it raises `NeedValue` instead). Any
+    arithmetic, ordering or truth test on one raises `NeedValue` too, as a safety net.
+    """
+
+    __slots__ = ("values", "type", "_hash")
+    values: tuple
+    type: ast.Type
+    _hash: int
+
+    def __init__(self, values: tuple, type_: ast.Type) -> None:
+        object.__setattr__(self, "values", values)
+        object.__setattr__(self, "type", type_)
+        object.__setattr__(self, "_hash", hash(("unknown", values)))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Unknown is immutable")
+
+    def __eq__(self, other: object) -> bool:
+        return self is other or (type(other) is Unknown and self._hash == other._hash
+                                 and self.values == other.values and self.type == other.type)
+
+    def __ne__(self, other: object) -> bool:
+        return not self.__eq__(other)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __repr__(self) -> str:
+        return f"Unknown({self.values!r})"
+
+    def __str__(self) -> str:
+        return "?"
+
+    def _need(self, *args: object) -> Any:
+        raise NeedValue(self)
+
+    __bool__ = __lt__ = __le__ = __gt__ = __ge__ = __neg__ = _need  # type: ignore[assignment]
+    __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = __rtruediv__ = _need
+    __floordiv__ = __rfloordiv__ = __mod__ = __rmod__ = _need
+
+
+class NeedValue(Exception):
+    """A step reads `unknown` (lazy mode): the configuration or input holding it must be split."""
+
+    def __init__(self, unknown: Unknown) -> None:
+        super().__init__("a value not chosen yet is read")
+        self.unknown = unknown
+
+
+def _unknown_in(v: object) -> Unknown | None:
+    """The first Unknown in a value (records and buffers looked into), or None."""
+    if isinstance(v, Unknown):
+        return v
+    if isinstance(v, (Record, tuple)):
+        for x in v.values() if isinstance(v, Record) else v:
+            u = _unknown_in(x)
+            if u is not None:
+                return u
+    return None
+
+
+def _holds(v: object, u: Unknown) -> bool:
+    """Whether `u` itself (not an equal Unknown) is in the value `v`."""
+    if v is u:
+        return True
+    if isinstance(v, Record):
+        return any(_holds(x, u) for x in v.values())
+    if isinstance(v, tuple):
+        return any(_holds(x, u) for x in v)
+    return False
+
+
+def _replace(v: object, u: Unknown, x: object) -> object:
+    """`v` with `u` itself replaced by `x`."""
+    if v is u:
+        return x
+    if isinstance(v, Record):
+        return Record({k: _replace(y, u, x) for k, y in v.items()})
+    if isinstance(v, tuple):
+        return tuple(_replace(y, u, x) for y in v)
+    return v
+
+
+def _unknowns(v: object, at: tuple, out: list[tuple[tuple, Unknown]]) -> None:
+    """Append (position, Unknown) for each Unknown in `v`, whose position is `at`."""
+    if isinstance(v, Unknown):
+        out.append((at, v))
+    elif isinstance(v, Record):
+        for k, y in v.items():
+            _unknowns(y, (*at, k), out)
+    elif isinstance(v, tuple):
+        for n, y in enumerate(v):
+            _unknowns(y, (*at, n), out)
+
+
+def fill(v: object, chosen: dict[int, object]) -> object:
+    """`v` with each Unknown `u` replaced by `chosen[id(u)]`, else by its first value."""
+    if isinstance(v, Unknown):
+        return chosen.get(id(v), v.values[0])
+    if isinstance(v, Record):
+        return Record({k: fill(y, chosen) for k, y in v.items()})
+    if isinstance(v, tuple):
+        return tuple(fill(y, chosen) for y in v)
+    return v
+
+
+def unknowns(v: object) -> tuple[list[Unknown], tuple[int, ...]]:
+    """The Unknowns in a value (records and tuples looked into), each once, in order; and for each
+    place holding one, which of them it is (`(u, u)` is not `(u, w)`, though they compare equal)."""
+    found: list[tuple[tuple, Unknown]] = []
+    _unknowns(v, (), found)
+    index: dict[int, int] = {}
+    for _, u in found:
+        index.setdefault(id(u), len(index))
+    distinct = list({id(u): u for _, u in found}.values())
+    return distinct, tuple(index[id(u)] for _, u in found)
+
+
+def _assumed(v: object, assume: dict[int, object]) -> object:
+    """`v` with the Unknowns that `assume` gives a value (by identity) replaced by it."""
+    if isinstance(v, Unknown):
+        return assume.get(id(v), v)
+    if isinstance(v, Record):
+        return Record({k: _assumed(y, assume) for k, y in v.items()})
+    return v
+
+
+def _at(v: object, path: tuple) -> object:
+    for k in path:
+        v = v[k]  # type: ignore[index]
+    return v
+
+
 class Event:
-    name: str
+    """A visible event: its channel as CSP names it, the values it carries, and FDR's name for it,
+    made from those when it is first read (most events a search makes are never printed)."""
+
+    __slots__ = ("channel", "values", "_name")
     channel: tuple
     values: tuple
+    _name: str | None
+
+    def __init__(self, name: str | None, channel: tuple, values: tuple) -> None:
+        object.__setattr__(self, "channel", channel)
+        object.__setattr__(self, "values", values)
+        object.__setattr__(self, "_name", name)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("Event is immutable")
+
+    @property
+    def name(self) -> str:
+        if self._name is None:  # records list their fields in their type's order (`_coerce`, `domain`)
+            object.__setattr__(self, "_name", ".".join((*self.channel, *(value_text(None, v) for v in self.values))))
+        return self._name  # type: ignore[return-value]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Event) and self.channel == other.channel and self.values == other.values
+
+    def __hash__(self) -> int:
+        return hash((self.channel, self.values))
+
+    def __repr__(self) -> str:
+        return f"Event({self.name!r})"
 
 
 @dataclass(frozen=True)
@@ -252,10 +429,18 @@ def _ediv(a: int, b: int) -> int:
 
 def _coerce(t: ast.Type | None, v: object) -> object:
     """`v` as a value of type `t`: integers in real places become Fractions; dicts become Records."""
+    if type(v) is Unknown:
+        if v.type == t or all(type(_coerce(t, x)) is type(x) for x in v.values):  # type: ignore[union-attr]
+            return v
+        raise NeedValue(v)  # type: ignore[arg-type]  # its values would change type: choose one
     if t == ast.REAL and isinstance(v, int) and not isinstance(v, bool):
         return Fraction(v)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
-        return Record({f.name: _coerce(f.type, v[f.name]) for f in t.fields if f.name in v})
+        fields = {f.name: _coerce(f.type, v[f.name]) for f in t.fields if f.name in v}
+        if isinstance(v, Record) and list(fields) == list(v) and \
+                all(x is y for x, y in zip(fields.values(), v.values(), strict=True)):
+            return v  # already a value of `t`: kept, with its hash
+        return Record(fields)
     if t in (ast.INT, ast.NAT) and isinstance(v, Fraction) and v.denominator == 1:
         return int(v)
     return v
@@ -263,6 +448,11 @@ def _coerce(t: ast.Type | None, v: object) -> object:
 
 def _fits(t: ast.Type | None, v: object) -> bool:
     """Whether `v` may be stored in a place of type `t` (nat values are never negative)."""
+    if type(v) is Unknown:
+        fits = [_fits(t, x) for x in v.values]  # type: ignore[union-attr]
+        if all(fits) or not any(fits):
+            return fits[0]
+        raise NeedValue(v)  # type: ignore[arg-type]
     if t == ast.NAT:
         return not (isinstance(v, (int, Fraction)) and not isinstance(v, bool) and v < 0)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
@@ -284,6 +474,36 @@ def _to_range(r: object) -> tuple[Fraction, Fraction]:
             else:
                 raise TypeError(f"not a range: {r!r}") from None
     return Fraction(lo), Fraction(hi)
+
+
+def _worklist(todo: list) -> Iterable:
+    """The items of `todo`, last first, including those added while it is read."""
+    while todo:
+        yield todo.pop()
+
+
+class _Given(Mapping[tuple, tuple]):
+    """Inputs for `Interpreter.steps`: `values` on `channel`, and no value on any other channel."""
+
+    def __init__(self, channel: tuple | None, values: tuple) -> None:
+        self.channel, self.given = channel, values
+
+    def __getitem__(self, channel: tuple) -> tuple:
+        return self.given if channel == self.channel else ()
+
+    def __contains__(self, channel: object) -> bool:
+        return True
+
+    def __iter__(self) -> Iterator[tuple]:
+        return iter([self.channel or ()])
+
+    def __len__(self) -> int:
+        return 1
+
+
+# An expression reading Unknowns is tried with each of their values, at most this many times per
+# step, before the configuration holding them is split (lazy mode).
+TOTAL = 4096
 
 
 # ----------------------------------------------------------------------------- static structure
@@ -385,13 +605,16 @@ class _Slot(NamedTuple):
 class _Ctx:
     """A configuration's store being changed: reads see the writes made so far."""
 
-    __slots__ = ("base", "upd", "i", "bind")
+    __slots__ = ("base", "upd", "i", "bind", "assume", "budget")
 
     def __init__(self, base: tuple, i: int, upd: dict | None = None) -> None:
         self.base = base
         self.upd = dict(upd) if upd else {}
         self.i = i
         self.bind: dict | None = None
+        # lazy mode: values assumed for Unknowns (by identity) while an expression is tried with each
+        self.assume: dict[int, object] | None = None
+        self.budget = TOTAL
 
     def get(self, s: int) -> object:
         u = self.upd
@@ -436,9 +659,15 @@ class Interpreter:
     def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
                  ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
                  settings: dict[str, object] | None = None,
-                 defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None) -> None:
+                 defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None,
+                 lazy: bool = False) -> None:
         self.element = element
         self.sampler = sampler  # None: every value of every choice (the explicit engine, replay)
+        # Lazy mode (the explicit engine's search): an input or an open initial value is an Unknown
+        # until a step reads it, and then the configuration or input holding it is split into one per
+        # value (`expand`); visible events may carry Unknowns, except on the channels in `strict`.
+        self.lazy = lazy and sampler is None
+        self.strict: set[tuple] = set()
         self.ename = element.name
         self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
         self.settings = dict(settings or {})
@@ -454,6 +683,7 @@ class Interpreter:
         self.slots: list[_Slot] = []
         self._slot_of: dict[tuple, int] = {}
         self._domains: dict[tuple, list] = {}
+        self._tuples: dict[tuple, tuple] = {}
         self._shared_owners: set[str] = set()
         self.network = not isinstance(element, ast.StateMachine)
         self._shared_vars: list[ast.Variable] = []
@@ -873,6 +1103,22 @@ class Interpreter:
         n = rng.randint(lo, hi)
         return Fraction(n) if t == ast.REAL else n
 
+    def _fresh(self, t: ast.Type | None, paths: tuple[str, ...]) -> list:
+        """Lazy mode: the one value standing for every value of `t` (records field by field; a type
+        with one value is that value), or none when `t` has no value in its range."""
+        if isinstance(t, ast.RecordType):
+            parts = [self._fresh(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
+            if any(not part for part in parts):
+                return []
+            return [Record(zip([f.name for f in t.fields], [part[0] for part in parts], strict=True))]
+        key = (t, paths)
+        d = self._tuples.get(key)
+        if d is None:
+            d = self._tuples[key] = tuple(self.domain(t, paths))
+        if len(d) <= 1:
+            return list(d)
+        return [Unknown(d, t)]  # type: ignore[arg-type]
+
     def _choices(self, t: ast.Type | None, paths: tuple[str, ...] = (), limit: int | None = None) -> list:
         """The values a choice of `t` is made among: every one, or when sampling and there are more
         than `limit` (the sampler's size by default), that many drawn at random."""
@@ -896,22 +1142,63 @@ class Interpreter:
         return v
 
     def _eval(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        """The value of `e`. In lazy mode, where `e` reads Unknowns, its value if that is the same
+        for every value they stand for (tried, up to `TOTAL` evaluations), else `NeedValue`."""
+        if not self.lazy:
+            return self._ev(ctx, e)
+        try:
+            return self._ev(ctx, e)
+        except NeedValue as nv:
+            return self._total(ctx, e, nv)
+
+    def _total(self, ctx: _Ctx, e: ast.Expr, nv: NeedValue) -> Any:
+        u = nv.unknown
+        saved = ctx.assume
+        first: list[object] = []
+        try:
+            for x in u.values:
+                ctx.budget -= 1
+                if ctx.budget < 0:
+                    raise nv
+                ctx.assume = {**(saved or {}), id(u): x}
+                r = self._eval(ctx, e)
+                if first and r != first[0]:
+                    raise nv  # the value depends on u's: the configuration or input holding u is split
+                first[:1] = [r]
+        finally:
+            ctx.assume = saved
+        return first[0]
+
+    def _known(self, ctx: _Ctx, v: object) -> object:
+        """`v` read by an expression (lazy mode): its Unknowns must be ones assumed to have a value."""
+        u = _unknown_in(v)
+        if u is None:
+            return v
+        if ctx.assume:
+            v = _assumed(v, ctx.assume)
+            u = _unknown_in(v)
+        if u is not None:
+            raise NeedValue(u)
+        return v
+
+    def _ev(self, ctx: _Ctx, e: ast.Expr) -> Any:
         if isinstance(e, ast.Literal):
             if isinstance(e.value, str):
                 raise NotInterpretable(e.pos, "strings")
             return e.value
         if isinstance(e, ast.VarRef):
-            return self._get(ctx, e.variable)
+            v = self._get(ctx, e.variable)
+            return self._known(ctx, v) if self.lazy else v
         if isinstance(e, ast.Binary):
             op = e.op
             if op == "and":
-                return bool(self._eval(ctx, e.left)) and bool(self._eval(ctx, e.right))
+                return bool(self._ev(ctx, e.left)) and bool(self._ev(ctx, e.right))
             if op == "or":
-                return bool(self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
+                return bool(self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
             if op == "implies":
-                return (not self._eval(ctx, e.left)) or bool(self._eval(ctx, e.right))
-            a = self._eval(ctx, e.left)
-            b = self._eval(ctx, e.right)
+                return (not self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
+            a = self._ev(ctx, e.left)
+            b = self._ev(ctx, e.right)
             if op == "+":
                 return a + b
             if op == "-":
@@ -945,26 +1232,26 @@ class Interpreter:
         if isinstance(e, ast.EnumLiteral):
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.FieldRef):
-            r = self._eval(ctx, e.record)
+            r = self._eval_ref(ctx, e.record) if self.lazy else self._ev(ctx, e.record)
             v = r.get(e.field_name) if isinstance(r, dict) else None
             if v is None:
                 raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
-            return v
+            return self._known(ctx, v) if self.lazy else v
         if isinstance(e, ast.Unary):
-            v = self._eval(ctx, e.operand)
+            v = self._ev(ctx, e.operand)
             if e.op == "not":
                 return not v
             if e.op == "-":
                 return -v
             raise NotInterpretable(e.pos, f"operator {e.op}")
         if isinstance(e, ast.IfExpr):
-            return self._eval(ctx, e.then) if self._eval(ctx, e.condition) else self._eval(ctx, e.otherwise)
+            return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)
         if isinstance(e, ast.RecordLiteral):
             t = e.type
             given = dict(e.fields)
             if isinstance(t, ast.RecordType) and any(f.name not in given for f in t.fields):
                 raise NotInterpretable(e.pos, "a record literal omitting fields")
-            return _coerce(t, Record({n: self._eval(ctx, x) for n, x in e.fields}))
+            return _coerce(t, Record({n: self._ev(ctx, x) for n, x in e.fields}))
         if isinstance(e, ast.Since):
             return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
         if isinstance(e, ast.SinceEntry):
@@ -973,19 +1260,32 @@ class Interpreter:
             f = e.function
             if f.definition is None:
                 raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
-            args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
+            args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
             saved = ctx.bind
             ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
             try:
-                if not all(self._eval(ctx, pre) is True for pre in f.preconditions):
+                if not all(self._ev(ctx, pre) is True for pre in f.preconditions):
                     # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
                     raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
-                return self._eval(ctx, f.definition)
+                return self._ev(ctx, f.definition)
             finally:
                 ctx.bind = saved
         if isinstance(e, ast.ResultRef):
             raise NotInterpretable(e.pos, "result outside a postcondition")
         raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _eval_ref(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        """`e`'s value, which may hold Unknowns when `e` only names a variable or one of its fields
+        (lazy mode: what goes out on a visible event as it is, or a record whose field is read)."""
+        if isinstance(e, ast.VarRef):
+            return self._get(ctx, e.variable)
+        if isinstance(e, ast.FieldRef):
+            r = self._eval_ref(ctx, e.record)
+            v = r.get(e.field_name) if isinstance(r, dict) else None
+            if v is None:
+                raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
+            return v
+        return self._eval(ctx, e)
 
     def _since_slot(self, ctx: _Ctx, e: ast.SinceEntry) -> int:
         for key in (k for k in self._slot_of if k[0] == "since" and k[1] == ctx.i and k[3] == e.state):
@@ -1038,6 +1338,10 @@ class Interpreter:
     def initial(self, choices: dict[str, object] | None = None) -> list[Config]:
         """Every initial configuration: one per choice of the constants without a value and the
         variables without an initial value (over their ranges, or from `choices`)."""
+        return list(self.initial_configs(choices))
+
+    def initial_configs(self, choices: dict[str, object] | None = None) -> Iterator[Config]:
+        """`initial`'s configurations one at a time (a search may stop before there are millions)."""
         choices = choices or {}
         base: list[object] = [None] * len(self.slots)
         open_slots: list[tuple[int, ast.Type, tuple[str, ...]]] = []
@@ -1061,38 +1365,49 @@ class Interpreter:
         deferred.sort(key=lambda x: 0 if x[1].kind == "const" else 1)
         frames = tuple((Frame(inst.beh, self.behs[inst.beh].initial[None], (), False, (), (), None),)
                        for inst in self.insts)
-        out: list[Config] = []
         seen: set[Config] = set()
-        if self.sampler is None:
-            combos: Iterable[tuple] = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
+        todo: list[tuple] = []
+        if self.lazy:  # one combination of Unknowns, split where an initial value or a deadline reads one
+            fresh = [self._fresh(t, p) for _, t, p in open_slots]
+            if any(not f for f in fresh):
+                return
+            todo = [tuple(f[0] for f in fresh)]
+            combos: Iterable[tuple] = _worklist(todo)
+        elif self.sampler is None:
+            combos = itertools.product(*(self.domain(t, p) for _, t, p in open_slots))
         else:  # a random run needs one: draw them until the initial values fit, a bounded number of times
             if any(self._size(t, p) == 0 for _, t, p in open_slots):
-                return []
+                return
             combos = (tuple(self._draw(t, p) for _, t, p in open_slots) for _ in range(self.sampler.size))
         for combo in combos:
-            store = list(base)
-            for (s, _, _), v in zip(open_slots, combo, strict=True):
-                store[s] = v
-            ok = True
-            for s, info in deferred:
-                ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
-                assert info.var is not None and info.var.initial is not None
-                v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
-                if not _fits(info.var.type, v):
-                    ok = False
-                    break
-                store[s] = v
-            if not ok:
+            try:
+                c = self._initial_config(base, frames, open_slots, deferred, combo)
+            except NeedValue as nv:
+                k = next((k for k, v in enumerate(combo) if _holds(v, nv.unknown)), None)
+                if k is None:
+                    raise
+                todo.extend(combo[:k] + (_replace(combo[k], nv.unknown, x),) + combo[k + 1:]
+                            for x in reversed(nv.unknown.values))
                 continue
-            st = tuple(store)
-            st = self._fix_deadlines(frames, st)
-            c = Config(frames, st, False)
-            if c not in seen:
+            if c is not None and c not in seen:
                 seen.add(c)
-                out.append(c)
+                yield c
                 if self.sampler is not None:
                     break
-        return out
+
+    def _initial_config(self, base: list, frames: tuple, open_slots: list, deferred: list,
+                        combo: tuple) -> Config | None:
+        store = list(base)
+        for (s, _, _), v in zip(open_slots, combo, strict=True):
+            store[s] = v
+        for s, info in deferred:
+            ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
+            assert info.var is not None and info.var.initial is not None
+            v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
+            if not _fits(info.var.type, v):
+                return None
+            store[s] = v
+        return Config(frames, self._fix_deadlines(frames, tuple(store)), False)
 
     def _paths_of(self, info: _Slot) -> tuple[str, ...]:
         assert info.var is not None
@@ -1261,7 +1576,7 @@ class Interpreter:
                 ctx = _Ctx(cfg.store, i)
                 if self._guard(ctx, beh, t):
                     etype = trig.event.type
-                    v = _coerce(etype, self._eval(ctx, trig.value)) if trig.value is not None else None
+                    v = _coerce(etype, self._eval_ref(ctx, trig.value)) if trig.value is not None else None
                     if etype is not None and v is None:
                         raise NotInterpretable(t.pos, "an output without a value on a typed event")
                     out.append(("out", trig.event.name, etype, v, self._take(ctx, frames, k, t)))
@@ -1280,6 +1595,9 @@ class Interpreter:
                 if not self._assign(ctx, trig.variable, (), v):
                     return []
             elif trig.kind == "sync" and trig.value is not None:
+                u = _unknown_in(v)
+                if u is not None:
+                    raise NeedValue(u)
                 if _coerce(trig.event.type, self._eval(ctx, trig.value)) != v:
                     return []
             if not self._guard(ctx, beh, t):
@@ -1307,7 +1625,7 @@ class Interpreter:
         elif isinstance(st, ast.Send):
             ctx = _Ctx(cfg.store, i)
             etype = st.event.type
-            v = _coerce(etype, self._eval(ctx, st.value)) if st.value is not None else None
+            v = _coerce(etype, self._eval_ref(ctx, st.value)) if st.value is not None else None
             if etype is not None and v is None:
                 raise NotInterpretable(st.pos, "an output without a value on a typed event")
             out.append(("out", st.event.name, etype, v, self._result(ctx, done)))
@@ -1326,7 +1644,7 @@ class Interpreter:
             d = self._resolve_call(i, st)
             if d is None:
                 params = st.operation.parameters
-                args = tuple(_coerce(p.type, self._eval(ctx, a)) for p, a in zip(params, st.args, strict=False))
+                args = tuple(_coerce(p.type, self._eval_ref(ctx, a)) for p, a in zip(params, st.args, strict=False))
                 out.append(("call", st.operation.name, params, args, self._result(ctx, done)))
             else:
                 self._call_defined(cfg, i, ctx, d, st, done, out)
@@ -1447,26 +1765,53 @@ class Interpreter:
     def _event(self, base: str, direction: str | None, t: ast.Type | None, v: object) -> Event:
         if direction is None:
             return Event(base, (base,), ())
-        name = f"{base}.{direction}"
         if t is None:
-            return Event(name, (base, direction), ())
-        return Event(f"{name}.{value_text(t, v)}", (base, direction), (v,))
+            return Event(f"{base}.{direction}", (base, direction), ())
+        return Event(None, (base, direction), (v,))
 
-    def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...], inputs: dict | None) -> list:
+    def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...],
+                    inputs: Mapping[tuple, tuple] | None) -> list:
         ch = (base, "in")
         if inputs and ch in inputs:
             given = inputs[ch]
             if t is None:
                 return [None]
+            if given == ():  # no value offered on this channel
+                return []
             return [_coerce(t, given[0] if isinstance(given, tuple) else given)]
         if inputs is not None:  # values given for some channels (replay): the others offer their range if any
             try:
                 return self.domain(t, paths)
             except Unbounded:
                 return []
+        if self.lazy and ch not in self.strict:
+            return self._fresh(t, paths)
         return self._choices(t, paths)
 
-    def steps(self, config: Config, inputs: dict[tuple, tuple] | None = None) -> list[Step]:
+    def _each(self, values: list, make: Callable[[object], list[Step]]) -> list[Step]:
+        """The steps `make(v)` for each input value `v`; where one reads an Unknown of `v` (lazy
+        mode), those of each value it stands for instead."""
+        out: list[Step] = []
+        todo = list(reversed(values))
+        while todo:
+            v = todo.pop()
+            try:
+                out.extend(make(v))
+            except NeedValue as nv:
+                if not _holds(v, nv.unknown):
+                    raise
+                todo.extend(_replace(v, nv.unknown, x) for x in reversed(nv.unknown.values))
+        return out
+
+    def _concrete(self, v: object, channel: tuple | None = None) -> None:
+        """Lazy mode: `v` is copied into the configuration, or shown on a channel in `strict`
+        (`channel` given), so its Unknowns must be chosen first."""
+        if self.lazy and (channel is None or channel in self.strict):
+            u = _unknown_in(v)
+            if u is not None:
+                raise NeedValue(u)
+
+    def steps(self, config: Config, inputs: Mapping[tuple, tuple] | None = None) -> list[Step]:
         """Every step possible from `config` (docs/semantics.md §3.2)."""
         if config.done:
             return []
@@ -1490,9 +1835,9 @@ class Interpreter:
                 elif kind == "call":
                     _, opname, params, args, (frames, upd) = m
                     base = f"{self.ename}::{opname}Call"
-                    name = base + "".join("." + value_text(p.type, a) for p, a in zip(params, args, strict=False))
+                    self._concrete(tuple(args), (base,))
                     urgent = True
-                    steps.append(Step("event", Event(name, (base,), tuple(args)),
+                    steps.append(Step("event", Event(None if args else base, (base,), tuple(args)),
                                       self._config(config, [(i, frames, upd)])))
                 elif kind == "term":
                     _, (frames, upd) = m
@@ -1504,16 +1849,19 @@ class Interpreter:
                     link = self.out_link.get((i, port))
                     if link is None or (link.dst is None and not link.asynchronous):
                         base = link.vis if link is not None and link.vis is not None else f"{mname}::{port}"
+                        self._concrete(v, (base, "out"))
                         steps.append(Step("event", self._event(base, "out", t, v),
                                           self._config(config, [(i, frames, upd)])))
                     elif link.asynchronous:
                         assert link.slot is not None
+                        self._concrete(v)
                         steps.append(Step("internal", None,
                                           self._config(config, [(i, frames, upd)], {link.slot: (v,)}),
                                           f"{mname}: {port} into buffer"))
                     else:
                         assert link.dst is not None
                         j, q = link.dst
+                        self._concrete(v)
                         for rm in ins_by_port.get((j, q), ()):
                             for _note, (rframes, rupd) in rm[3](v):
                                 merged = dict(upd)
@@ -1527,11 +1875,11 @@ class Interpreter:
                     links = self.in_links.get((i, port), [])
                     if not links:
                         base = f"{mname}::{port}"
-                        for v in self._inputs_for(base, t, (base, f"{self.insts[i].machine.qname}::{port}"),
-                                                  inputs):
-                            for _note, (frames, upd) in accept(v):
-                                steps.append(Step("event", self._event(base, "in", t, v),
-                                                  self._config(config, [(i, frames, upd)])))
+                        steps += self._each(
+                            self._inputs_for(base, t, (base, f"{self.insts[i].machine.qname}::{port}"), inputs),
+                            lambda v, base=base, t=t, accept=accept, i=i: [  # type: ignore[misc]
+                                Step("event", self._event(base, "in", t, v), self._config(config, [(i, frames, upd)]))
+                                for _note, (frames, upd) in accept(v)])
                     for link in links:
                         if link.asynchronous:
                             assert link.slot is not None
@@ -1544,10 +1892,11 @@ class Interpreter:
                                                   f"{note} ({port} from buffer)"))
                         elif link.src is None:
                             assert link.vis is not None
-                            for v in self._inputs_for(link.vis, t, (link.vis, f"{mname}::{port}"), inputs):
-                                for _note, (frames, upd) in accept(v):
-                                    steps.append(Step("event", self._event(link.vis, "in", t, v),
-                                                      self._config(config, [(i, frames, upd)])))
+                            steps += self._each(
+                                self._inputs_for(link.vis, t, (link.vis, f"{mname}::{port}"), inputs),
+                                lambda v, vis=link.vis, t=t, accept=accept, i=i: [  # type: ignore[misc]
+                                    Step("event", self._event(vis, "in", t, v), self._config(config, [(i, frames, upd)]))
+                                    for _note, (frames, upd) in accept(v)])
         # the environment's side of asynchronous links
         for link in self.links:
             if not link.asynchronous or link.vis is None:
@@ -1562,12 +1911,95 @@ class Interpreter:
             elif link.dst is None:
                 buf = config.store[link.slot]
                 if buf is not None:
+                    self._concrete(buf[0], (link.vis, "out"))
                     steps.append(Step("event", self._event(link.vis, "out", link.type, buf[0]),
                                       self._config(config, [], {link.slot: None})))
         tock = self._tock(config, steps, urgent)
         if tock is not None:
             steps.append(Step("tock", TOCK, tock))
         return steps
+
+    def expand(self, config: Config) -> list[tuple[Config, list[Step]]]:
+        """`config` with its steps, or (lazy mode) where its steps read one of its Unknowns, the
+        configurations it stands for, split by that Unknown's values as far as their steps need,
+        each with its steps. Each configuration returned is one whose steps read none of its
+        Unknowns, so every configuration it stands for has the same steps up to those values."""
+        out = []
+        todo = [config]
+        while todo:
+            c = todo.pop()
+            try:
+                out.append((c, self.steps(c)))
+            except NeedValue as nv:
+                todo.extend(reversed(self._split(c, nv.unknown)))
+        return out
+
+    def _split(self, config: Config, u: Unknown) -> list[Config]:
+        slot = next((s for s, v in enumerate(config.store) if _holds(v, u)), None)
+        if slot is None:  # pragma: no cover - an Unknown read must be in the configuration or an input
+            raise AssertionError(f"a step read {u!r}, which is neither in its configuration nor in an input")
+        store = config.store
+        return [Config(config.machines, (*store[:slot], _replace(store[slot], u, x), *store[slot + 1:]), config.done)
+                for x in u.values]
+
+    def concretize(self, path: list[tuple[Config, Step, Config]]) -> list[tuple[Step, tuple[str, ...]]]:
+        """The steps of a run of concrete configurations along `path`, found by a lazy search, each
+        with the fields of its input that no later step reads (any value of them gives the same run).
+
+        `path` holds, per step, the configuration it was taken from, the step (as `steps` gave it:
+        its target is computed from that configuration, and the next configuration is the target or
+        one of the configurations `expand` split it into) and the next configuration. Going back from
+        the last configuration (each Unknown at its first value), each configuration's Unknowns take
+        the values they have after the step: where the step left or moved one, its value there;
+        where the step dropped it, its first value. Each step is then one the interpreter takes
+        without Unknowns, with concrete values in its event; an AssertionError says that there is
+        none, which would be a bug in the lazy mode.
+        """
+        lazy, self.lazy = self.lazy, False
+        try:
+            if not path:
+                return []
+            last: list[tuple[tuple, Unknown]] = []
+            _unknowns(path[-1][2].store, (), last)
+            free_after = {pos for pos, _ in last}  # positions of Unknowns no later step reads
+            cur = self._filled(path[-1][2], {})
+            out: list[tuple[Step, tuple[str, ...]]] = []
+            for source, step, _nxt in reversed(path):
+                after: list[tuple[tuple, Unknown]] = []
+                _unknowns(step.target.store, (), after)
+                where = {id(u): pos for pos, u in after}
+                before: list[tuple[tuple, Unknown]] = []
+                _unknowns(source.store, (), before)
+                events: list[tuple[tuple, Unknown]] = []
+                if step.event is not None:
+                    _unknowns(step.event.values, (), events)
+                chosen: dict[int, object] = {}
+                free: set[int] = set()
+                for _, u in (*before, *events):
+                    pos = where.get(id(u))
+                    chosen[id(u)] = u.values[0] if pos is None else _at(cur.store, pos)
+                    if pos is None or pos in free_after:
+                        free.add(id(u))
+                prev = self._filled(source, chosen)
+                values = cast("tuple", fill(step.event.values, chosen)) if step.event is not None else ()
+                only = _Given(step.event.channel if step.event is not None else None, values)
+                match = next((s for s in self.steps(prev, only) if s.kind == step.kind and s.target == cur and
+                              (s.event is None or step.event is not None and s.event.channel == step.event.channel
+                               and s.event.values == values)), None)
+                if match is None:  # pragma: no cover
+                    raise AssertionError(f"the lazy search's step {step.event or step.note} has no concrete match")
+                fields = tuple(".".join(str(k) for k in pos[1:]) for pos, u in events
+                               if id(u) in free and step.event is not None and step.event.channel[-1:] == ("in",))
+                out.append((match, tuple(dict.fromkeys(fields))))
+                free_after = {pos for pos, u in before if id(u) in free}
+                cur = prev
+            out.reverse()
+            return out
+        finally:
+            self.lazy = lazy
+
+    def _filled(self, config: Config, chosen: dict[int, object]) -> Config:
+        return Config(config.machines, fill(config.store, chosen), config.done)  # type: ignore[arg-type]
 
     def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
         """The configuration after `tock`, or None if `tock` is refused (docs/semantics.md §3.3, §4.6)."""

@@ -68,7 +68,7 @@ def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str,
         expected = visible[i] if i < len(visible) else None
         inputs = _Inputs(expected.channel if expected is not None and expected.kind == "event" else None,
                          expected.values if expected is not None else ())
-        steps = interp.steps(config, inputs)  # type: ignore[arg-type]  # a Mapping is enough
+        steps = interp.steps(config, inputs)
         statuses = [_status(context, s) for s in steps]
         hidden_possible = any(st == "hidden" and s.kind == "event" for s, st in zip(steps, statuses, strict=True))
         allowed = [s for s, st in zip(steps, statuses, strict=True)
