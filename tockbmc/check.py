@@ -12,6 +12,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import z3
 
@@ -33,6 +34,9 @@ from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import query
+
+if TYPE_CHECKING:  # the interpreter is imported when a replay needs it
+    from tockbmc.explicit.interpreter import Interpreter
 
 DEFAULT_BOUND = 40
 SPLIT_DEPTH = 8  # steps of two runs searched from a configuration where the next step is open
@@ -157,12 +161,7 @@ class _Check:
             why = (f"{goal.claim}, shown for runs of every length, not only up to {self.bound} steps "
                    f"({outcome.reason})" if verdict == Verdict.HOLDS
                    else f"no run of any length reaches {goal.sought} ({outcome.reason})")
-            proof = Proof.INVARIANT if outcome.method == "invariant" else Proof.K_INDUCTION
-            self.depth = max(self.depth or 0, outcome.depth)
-            if proof == Proof.INVARIANT and self.proof == Proof.K_INDUCTION:
-                self.proof = Proof.INVARIANT
-            if outcome.invariant:
-                self.extra["invariant"] = outcome.invariant
+            proof = self.proved(outcome)
         elif goal.not_found == Verdict.HOLDS:
             verdict, why, proof = Verdict.HOLDS, f"{goal.claim} within {self.bound} steps", Proof.BOUNDED
             if why_not:
@@ -176,6 +175,17 @@ class _Check:
             self.proof = Proof.BOUNDED
         self.reasons.append(why)
         return None
+
+    def proved(self, outcome: Outcome) -> Proof:
+        """Record a proof for every length: its kind (an invariant weakens k-induction in the
+        result's proof), the deepest k it needed, and the invariant to print."""
+        proof = Proof.INVARIANT if outcome.method == "invariant" else Proof.K_INDUCTION
+        self.depth = max(self.depth or 0, outcome.depth)
+        if proof == Proof.INVARIANT and self.proof == Proof.K_INDUCTION:
+            self.proof = Proof.INVARIANT
+        if outcome.invariant:
+            self.extra["invariant"] = outcome.invariant
+        return proof
 
     def found(self, q: Query, goal: Goal, outcome: Outcome) -> Result:
         """The target was reached: decode the run, replay it, and say what it shows."""
@@ -209,10 +219,7 @@ class _Check:
         if local.status == Status.UNKNOWN:
             return self.result(Verdict.UNKNOWN, local.reason, proof=Proof.NONE, depth=local.depth)
         if local.status == Status.PROVED:
-            self.proof = Proof.INVARIANT if local.method == "invariant" else Proof.K_INDUCTION
-            self.depth = local.depth
-            if local.invariant:
-                self.extra["invariant"] = local.invariant
+            self.proved(local)
             self.reasons.append("no configuration leaves the next step open once the next event is known (two "
                                 "internal steps, an internal step beside an event, or one event two ways), shown for "
                                 f"runs of every length ({local.reason}), so two runs with one trace are one run")
@@ -236,9 +243,7 @@ class _Check:
             decided = self.search(q, goal, network, consts)
             if decided is None:
                 continue
-            if decided.verdict == Verdict.VIOLATED and not negated:
-                return replace(decided, reason=f"{decided.reason}; a process that can diverge is not deterministic")
-            if decided.verdict == Verdict.HOLDS and negated:  # a divergence witnesses nondeterminism
+            if decided.verdict == (Verdict.HOLDS if negated else Verdict.VIOLATED):  # a divergence
                 return replace(decided, reason=f"{decided.reason}; a process that can diverge is not deterministic")
             if negated:  # no divergence: that alone does not make it deterministic
                 return self.result(Verdict.UNKNOWN, "; ".join([*self.reasons, decided.reason or ""]) +
@@ -347,11 +352,10 @@ def replay_pair(q: Query, trace: tuple, other: tuple, choices: dict[str, object]
                 consts: dict[str, ast.Expr]) -> str:
     """Replay a nondeterminism: the interpreter follows the first run to its last event, and the
     second to a stable configuration that does not offer that event."""
-    from tockbmc.explicit.engine import python_settings, ranges_dict
-    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
     from tockbmc.explicit.replay import replay
 
     last = trace[-1]
+    offered = {last.channel: last.values} if last.kind == "event" else {}
 
     def refuses(config: object, steps: list) -> bool:
         if any(s.kind == "internal" for s in steps):
@@ -360,21 +364,24 @@ def replay_pair(q: Query, trace: tuple, other: tuple, choices: dict[str, object]
             return not any(s.kind == "tock" for s in steps)
         return not any(s.event is not None and s.event.name == last.event for s in steps)
 
-    try:
-        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined))
+    def follow(interp: Interpreter) -> None:
         replay(interp, trace, choices, None, lambda config, steps: True)
-        offered = _Offering(last)
         replay(interp, other, choices, None, lambda config, steps: refuses(config, interp.steps(config, offered)))
+
+    return _replayed(q, ranges, consts, follow)
+
+
+def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Callable[[Interpreter], None]) -> str:
+    """Run `follow` with an interpreter of the query's element: "yes", or "no: why" when the
+    interpreter cannot run the model; `ReplayFailure` passes through."""
+    from tockbmc.explicit.engine import python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
+
+    try:
+        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined)))
     except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
     return "yes"
-
-
-class _Offering(dict):  # type: ignore[type-arg]
-    """The environment's offer when asking whether a configuration refuses one event: its values."""
-
-    def __init__(self, step: TraceStep):
-        super().__init__({step.channel: step.values} if step.kind == "event" else {})
 
 
 def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,
@@ -384,13 +391,10 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     Returns "yes", or "no: why" when the interpreter cannot run the model (a construct it does
     not interpret); raises `ReplayFailure` when it runs it but cannot follow the trace.
     """
-    from tockbmc.explicit.engine import is_state, python_settings, ranges_dict
-    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
+    from tockbmc.explicit.engine import is_state
     from tockbmc.explicit.replay import replay
 
-    try:
-        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined))
-
+    def follow(interp: Interpreter) -> None:
         def final(config: object, steps: list) -> bool:
             if goal.target is terminated:
                 return interp.terminated(config)  # type: ignore[arg-type]
@@ -403,6 +407,5 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
             return True
 
         replay(interp, trace, choices, q.context, final)
-    except (NotInterpretable, Unbounded, Unsupported) as exc:
-        return f"no: {getattr(exc, 'what', None) or exc}"
-    return "yes"
+
+    return _replayed(q, ranges, consts, follow)

@@ -34,7 +34,7 @@ from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import leaves
 from tockbmc.model.result import TraceStep
-from tockbmc.properties.determinism import Offers
+from tockbmc.properties.determinism import Offers, visible_moves
 
 
 @dataclass
@@ -69,7 +69,7 @@ def nondeterminism(system: TransitionSystem, bound: int, timeout: float | None =
         solver.add(*system.invariants(), *(a.at(c, 0) for c in start), *(b.at(c, 0) for c in start))
     solver.add([a.frame(0)[n] == b.frame(0)[n] for n in system.sorts])
     trans, shown = system.trans(), system.visible()
-    visible = [m for m in system.moves if m.kind != "internal" and not (m.kind == "tock" and system.tock_hidden)]
+    visible = visible_moves(system)
     by_label: dict[tuple, list[Move]] = {}
     for m in visible:
         by_label.setdefault(system.label(m), []).append(m)
@@ -77,7 +77,7 @@ def nondeterminism(system: TransitionSystem, bound: int, timeout: float | None =
     moved: list[tuple[z3.BoolRef, z3.BoolRef]] = []
 
     def values(u: Unroller, m: Move, k: int) -> list[z3.ExprRef]:
-        return [u.at(term, k) for value, _t in system.label_values(m) for _p, term in leaves(value)]
+        return [u.at(term, k) for term in offers.carried(m)]
 
     def stays(u: Unroller, k: int) -> z3.BoolRef:
         before, after = u.frame(k), u.frame(k + 1)

@@ -619,7 +619,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
         return done("no deadlock")
     if kind == "deterministic":
-        return _deterministic(search, name, negated, result)
+        return _deterministic(search, name, negated, result, scope)
     if kind == "divergence-free":
         search.run(lambda key, succ: None)  # explore, then look for a cycle of internal steps
         loop = search.nearest_cycle(lambda s: s.kind == "internal")
@@ -693,7 +693,8 @@ def _label(step: Step) -> str:
     return "tock" if step.kind == "tock" else step.event.name if step.event is not None else "?"
 
 
-def _deterministic(search: Search, name: str, negated: bool, result: Callable[..., Result]) -> Result:
+def _deterministic(search: Search, name: str, negated: bool, result: Callable[..., Result],
+                   scope: Callable[[], str]) -> Result:
     """`P is deterministic` by subset construction: for each initial configuration (the values a run
     starts from are the environment's choice, as in BMC's `bmc.determinism`), the sets of
     configurations reachable after each trace; an event that one member offers and a stable member
@@ -753,10 +754,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
         return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                       f"{name} can repeat internal steps for ever (divergence); a process that can diverge is not "
                       "deterministic", search.trace(loop))
-    scope = ("every configuration reachable at any length was explored" if search.complete
-             else f"for every run of up to {search.bound} visible steps")
+    why = f"no event is both possible and refused after the same trace, and no divergence; {scope()}"
     if negated:
-        return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN,
-                      f"no event is both possible and refused after the same trace, and no divergence; {scope}")
-    return result(Verdict.HOLDS, f"no event is both possible and refused after the same trace, and no divergence; "
-                                 f"{scope}")
+        return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, why)
+    return result(Verdict.HOLDS, why)
