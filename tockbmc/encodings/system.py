@@ -112,6 +112,7 @@ class TransitionSystem:
         self.inputs: dict[str, tuple[ast.Type, Value]] = {}  # values chosen during the step, by name
         self.side: list[z3.BoolRef] = []  # function axioms at the calls the formulas make (grows as they are built)
         self.constraints: list[z3.BoolRef] = []  # on constants: they hold at every step
+        self.open_constants: dict[str, Value] = {}  # constants without a value (parameters), by declaration key
         self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int, str]] = {}  # slot -> (type, initial, component, declaration)
@@ -305,6 +306,7 @@ class TransitionSystem:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
+            self.open_constants.setdefault(declaration_key(decl), value)
         return value
 
     # ------------------------------------------------------------ moves

@@ -89,13 +89,22 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
         cs.append(v >= 0)
     if isinstance(t, ast.EnumType):
         cs += [v >= 0, v < len(t.literals)]
-    r = ranges.by_path.get(path)
-    if r is None:
-        name = TYPE_RANGE_NAMES.get(t.name, t.name) if isinstance(t, ast.PrimitiveType) else t.name
-        r = ranges.by_type.get(name)
-    if r is not None and z3.is_arith(v):
-        cs += [v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+    if not z3.is_arith(v):
+        return cs
+    name = TYPE_RANGE_NAMES.get(t.name, t.name) if isinstance(t, ast.PrimitiveType) else t.name
+    for bounded in (path, name):
+        if bounded in ranges.parametric:
+            low, high = range_bounds(bounded, v.sort())
+            return [*cs, v >= low, v <= high]
+        r = ranges.by_path.get(path) if bounded == path else ranges.by_type.get(name)
+        if r is not None:
+            return [*cs, v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
     return cs
+
+
+def range_bounds(name: str, sort: z3.SortRef) -> tuple[z3.ArithRef, z3.ArithRef]:
+    """The lower and upper bound of a parametric range, as symbols (the same at every step)."""
+    return z3.Const(f"range[{name}].low", sort), z3.Const(f"range[{name}].high", sort)  # type: ignore[return-value]
 
 
 def _const(x: Fraction, sort: z3.SortRef) -> z3.ExprRef:
