@@ -19,11 +19,12 @@ from fractions import Fraction
 
 import z3
 
-from tockbmc.bmc.regions import Region, Witness, _symbols, carried, condition_text, region, simplified
+from tockbmc.bmc.regions import Region, Witness, carried, condition_text, region, simplified
 from tockbmc.bmc.witness import decode, initial_choices, scalar_text
 from tockbmc.check import DEFAULT_BOUND, own_z3_context, replay_trace
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
+from tockbmc.encodings.terms import constants
 from tockbmc.encodings.values import leaves
 from tockbmc.model import ast
 from tockbmc.model.config import ConfigError, Configuration, Names, Setup, configure
@@ -158,12 +159,16 @@ class _Explore:
         pieces = simplified(cubes, assume)
         integers = {n for n, s in params.items() if s.sort() == z3.IntSort()}
         condition = condition_text(pieces, display, integers)
-        mentioned = {v.decl().name() for c in pieces for v in _symbols(c)}
+        mentioned = {v.decl().name() for c in pieces for v in constants(*c)}
         complete = all(r.complete for _, r in found)
         proved = [r.proof for _, r in found if r.proof]
         reach = ("every length" if complete and len(proved) == len(found) else "bound" if complete else "partial")
+        if complete and condition == "true":  # nothing is outside
+            reach, proved = "every length", ["every point has a counterexample"]
         fields: dict[str, object] = dict(
             parameters=tuple(display[n] for n in params), fixed=self.fixed(setup),
+            fixed_here={k: v for k, v in self.fixed(setup).items()
+                        if setup.constant_sources.get(k, "").startswith(("D__ argument", "with constant"))},
             assumed=tuple(condition_text([[f]], display, integers) for f in assume),
             inside="holds" if witness else "violated", condition=condition,
             independent=tuple(display[n] for n in params if n not in mentioned), reach=reach,
@@ -280,7 +285,7 @@ def _parameters(system: TransitionSystem, ranges: Sequence[str]) -> tuple[dict[s
     """The parameters a system's formulas name, by symbol name with the name to print: the bounds
     of the parametric ranges and the constants without a value; and what every point satisfies
     (a low bound at most its high one, naturals not negative, a constant in its type and range)."""
-    used = {v.decl().name(): v for v in _symbols([system.init(), system.trans()])}
+    used = {v.decl().name(): v for v in constants(system.init(), system.trans())}
     out: dict[str, tuple[z3.ExprRef, str]] = {}
     facts: list[z3.BoolRef] = []
     for name in ranges:
@@ -295,5 +300,5 @@ def _parameters(system: TransitionSystem, ranges: Sequence[str]) -> tuple[dict[s
     for key, value in system.open_constants.items():
         for path, term in leaves(value):
             out[term.decl().name()] = (term, f"{key}{path}")
-    facts += [c for c in system.constraints if all(v.decl().name() in out for v in _symbols([c]))]
+    facts += [c for c in system.constraints if all(v.decl().name() in out for v in constants(c))]
     return out, facts

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -27,6 +27,7 @@ import z3
 from tockbmc.bmc.engine import Progress, Status
 from tockbmc.bmc.portfolio import decide
 from tockbmc.encodings.system import Target, TransitionSystem
+from tockbmc.encodings.terms import constants
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model.numbers import real_text
 
@@ -72,34 +73,17 @@ class _Clock:
         return True
 
 
-def _symbols(terms: Iterable[z3.ExprRef]) -> list[z3.ExprRef]:
-    """The uninterpreted constants in terms (an explicit stack: unrolled formulas are deep)."""
-    seen: set[int] = set()
-    out: dict[int, z3.ExprRef] = {}
-    stack = list(terms)
-    while stack:
-        t = stack.pop()
-        if t.get_id() in seen:
-            continue
-        seen.add(t.get_id())
-        if z3.is_const(t) and t.decl().kind() == z3.Z3_OP_UNINTERPRETED:
-            out[t.decl().get_id()] = t
-        elif z3.is_app(t):
-            stack.extend(t.children())
-    return list(out.values())
-
-
 def project(formula: z3.BoolRef, keep: Sequence[z3.ExprRef], model: z3.ModelRef) -> z3.BoolRef:
     """A cube over `keep` that holds in `model` and implies `formula` projected onto `keep`
     (every other symbol existentially quantified): Z3's model-based projection.  Symbols it cannot
     eliminate are fixed to their values in the model, which keeps the cube an under-approximation."""
     kept = {k.get_id() for k in keep}
-    bound = [v for v in _symbols([formula]) if v.get_id() not in kept]
+    bound = [v for v in constants(formula) if v.get_id() not in kept]
     ctx = formula.ctx
     array = (z3.Ast * len(bound))(*(v.as_ast() for v in bound))
     cube = z3.z3._to_expr_ref(z3.Z3_qe_model_project(ctx.ref(), model.model, len(bound), array,  # noqa: SLF001
                                                      formula.as_ast()), ctx)
-    left = [v for v in _symbols([cube]) if v.get_id() not in kept]
+    left = [v for v in constants(cube) if v.get_id() not in kept]
     if left:  # not eliminated (an uninterpreted function's value, say): pinned as the model has it
         cube = z3.substitute(cube, *[(v, model.eval(v, model_completion=True)) for v in left])
     return z3.simplify(cube)  # type: ignore[return-value]

@@ -29,6 +29,7 @@ class Exploration:
     status: str  # "region", "unknown" (the computation stopped early) or "unsupported"
     parameters: tuple[str, ...] = ()  # what varies: `core_int.low`, `UR::n_waypoints`
     fixed: dict[str, str] = field(default_factory=dict)  # ranges and constants held fixed, with their values
+    fixed_here: dict[str, str] = field(default_factory=dict)  # those the assertion sets (`D__` arguments, `with constant`)
     assumed: tuple[str, ...] = ()  # what every point satisfies (`core_int.low ≤ core_int.high`)
     inside: str = "violated"  # the verdict inside the region ("holds" for a witness: `is reachable`)
     condition: str = ""  # the region, in the model's names; "false": nowhere, "true": everywhere
@@ -47,7 +48,7 @@ class Exploration:
     def to_json(self) -> dict[str, Any]:
         return {
             "assertion": self.assertion, "text": self.text, "pos": self.pos, "status": self.status,
-            "parameters": list(self.parameters), "fixed": self.fixed, "assumed": list(self.assumed),
+            "parameters": list(self.parameters), "fixed": self.fixed, "fixed_here": self.fixed_here, "assumed": list(self.assumed),
             "inside": self.inside, "condition": self.condition, "independent": list(self.independent),
             "reach": self.reach, "proof": self.proof, "bound": self.bound, "depth": self.depth,
             "example": {"point": self.point, "trace": [s.to_json() for s in self.trace], "replayed": self.replayed}
