@@ -111,3 +111,30 @@ def test_the_readme_question_negative_times_break_a1_to_a6_and_a7_always_holds()
         assert "core_int.high" in e.independent
         assert any(c.field == "time" and c.condition == "time ≤ -1" for c in e.carried)
     assert found["A7"].condition == "false" and found["A7"].reach == "every length"
+
+
+def test_outside_the_region_an_invariant_proves_it_for_every_length(found: dict) -> None:
+    """Drift adds inputs to x and stops below 0: k-induction cannot show the complement, PDR can."""
+    e = found["G"]
+    assert (e.condition, e.reach) == ("core_int.low ≤ -1", "every length") and "invariant" in e.proof
+
+
+def test_spacer_does_not_choose_a_parametric_bound(project: tockbmc.Project) -> None:
+    """The bounds of a parametric range are carried by PDR's relation like constants: left free in the
+    Horn clauses, Spacer could pick a harmless range (low = 0) and call the target unreachable."""
+    from dataclasses import replace
+
+    from tockbmc.bmc.pdr import Spacer
+    from tockbmc.encodings.composition import network_of
+    from tockbmc.encodings.system import TransitionSystem
+    from tockbmc.model.config import configure
+    from tockbmc.properties.queries import query
+
+    config = configure(project)
+    [a] = [x for x in config.project.assertions if x.name == "G"]
+    q = query(config.project, a)
+    setup = config.setup(a, q.element, q.settings)
+    system = TransitionSystem(network_of(q.element, {}), replace(setup.ranges, parametric=("core_int",)),
+                              setup.constants, context=q.context)
+    [goal] = q.goals
+    assert Spacer(system, goal.target(system)).run(30) == "reachable"
