@@ -24,7 +24,7 @@ import z3
 from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
-from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
+from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, parts, sort_of
 from tockbmc.model import ast
 from tockbmc.model.config import constant_setting, declaration_key
 from tockbmc.model.csp import canonical
@@ -179,8 +179,8 @@ class TransitionSystem:
     def value(self, base: str, t: ast.Type, after: bool = False) -> Value:
         """A variable's value before the template step (after it, with `after`)."""
         f = self.nxt if after else self.cur
-        if isinstance(t, ast.RecordType):
-            return {fd.name: self.value(f"{base}.{fd.name}", fd.type, after) for fd in t.fields}
+        if parts(t):
+            return {fd: self.value(f"{base}.{fd}", ft, after) for fd, ft in parts(t)}
         return f[base]
 
     def evaluator(self, c: int, extra: dict[int, Value] | None = None) -> Evaluator:
