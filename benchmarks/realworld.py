@@ -140,7 +140,7 @@ def main() -> None:
         if not args.load_only and project.assertions:
             job = Job(configure(project, default_ranges=ROBOTOOL_RANGES), args.bound, args.timeout)
             began = time.perf_counter()
-            for i, a in enumerate(project.assertions):
+            for i in range(len(project.assertions)):
                 left = args.budget - (time.perf_counter() - began)
                 if left <= 0:
                     counts["skipped"] += 1

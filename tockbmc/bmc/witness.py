@@ -14,9 +14,9 @@ from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves, parts
 from tockbmc.model import ast
+from tockbmc.model.config import declaration_key
 from tockbmc.model.data import Product, text_of
 from tockbmc.model.errors import Unsupported
-from tockbmc.model.config import declaration_key
 from tockbmc.model.numbers import real_text
 from tockbmc.model.result import TraceStep
 from tockbmc.properties.process import MonitorExtension

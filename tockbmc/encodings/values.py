@@ -52,12 +52,21 @@ def _datatype(t: ast.RecordType | ast.ProductType) -> z3.DatatypeSortRef:
     kept = _DATATYPES.get((id(ctx), t))
     if kept is not None and kept[0] is ctx:
         return kept[1]
-    name = t.qname if isinstance(t, ast.RecordType) else f"({t.name})"
+    name = _qualified(t)
     dt = z3.Datatype(name)
     dt.declare(f"mk {name}", *[(f"{name}.{f}", sort_of(ft)) for f, ft in parts(t)])
     sort = dt.create()
     _DATATYPES[(id(ctx), t)] = (ctx, sort)
     return sort
+
+
+def _qualified(t: ast.Type) -> str:
+    """A type's name with every declared type in it qualified (two packages' `ID * ID` differ)."""
+    if isinstance(t, ast.ProductType):
+        return "(" + "*".join(_qualified(p) for p in t.parts) + ")"
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return f"{'Seq' if isinstance(t, ast.SeqType) else 'Set'}({_qualified(t.element)})"
+    return getattr(t, "qname", t.name)
 
 
 def parts(t: ast.Type) -> list[tuple[str, ast.Type]]:
@@ -88,6 +97,13 @@ def unpack(x: z3.ExprRef, t: ast.Type) -> Value:
     sort = sort_of(t)
     assert isinstance(sort, z3.DatatypeSortRef)
     return {f: unpack(sort.accessor(0, i)(x), ft) for i, (f, ft) in enumerate(fs)}
+
+
+def as_type(v: Value, t: ast.Type) -> Value:
+    """`v` with its integer leaves made reals where `t` has reals (an integer sent on a real event)."""
+    if isinstance(v, dict):
+        return {f: as_type(v[f], ft) for f, ft in parts(t)} if parts(t) else v
+    return _to_real(v) if t == ast.REAL else v
 
 
 def fresh(name: str, t: ast.Type) -> Value:
