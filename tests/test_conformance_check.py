@@ -41,6 +41,13 @@ DIFFERENCES = {
                     "not yet studied"),
 }
 
+# (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.
+UNDECIDED = {
+    ("clocks3", "R1"): "Z3 answers unknown at depth 5 ('incomplete quantifiers'; the case has a Set(nat) "
+                       "constant): not yet studied",
+    ("clocks6", "R3timed"): "'terminates' needs termination found within the bound (12 here)",
+}
+
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
 CSP_CHECKED = {("test2", "t2a_timed"): "holds", ("test2", "t2b_timed"): "holds", ("test9", "A2"): "holds",
                ("test8", "A2"): "violated", ("clocks-ops2", "A1"): "holds", ("clocks-ops3", "A1"): "holds",
@@ -66,7 +73,7 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
 
 
 def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
-    checked = {k: v for k, v in results().items() if v[0] != "unsupported"}
+    checked = {k: v for k, v in results().items() if v[0] != "unsupported" and k not in UNDECIDED}
     wrong = {k: v for k, v in checked.items() if v[0] != "holds" and DIFFERENCES.get(k, ("",))[0] != v[0]}
     assert not wrong
     holding = sum(1 for v in checked.values() if v[0] == "holds")
@@ -77,8 +84,12 @@ def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
 
 def test_one_assertion_is_decided_differently_from_robotool() -> None:
     """The differences left: RoboTool's expectation is that every assertion holds."""
-    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported")}
+    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported", "unknown")}
     assert differ == set(DIFFERENCES)
+
+
+def test_undecided_assertions_are_the_recorded_ones() -> None:
+    assert {k for k, v in results().items() if v[0] == "unknown"} == set(UNDECIDED)
 
 
 def test_csp_refinements_in_the_subset_are_checked() -> None:
