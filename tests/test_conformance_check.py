@@ -29,6 +29,23 @@ DIFFERENCES = {
                     "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes; and with x at 0, M "
                     "terminates with S1 (semantics.md §5.6: with its first machine) before S2's e2 output, "
                     "where TSpec's SKIP follows e2 (RoboTool's M terminates with its last machine)"),
+    ("AlphaAlgorithm", "a6"): (
+        "violated", "the case's instantiation defines Mathematics_floor(x) = x, a real for floor's nat result "
+                    "(FDR's reals are integers), which tockbmc refuses, so floor stays uninterpreted and "
+                    "Avoid's wait(floor(random() * 360 / av)) may last any time; the interpreter cannot replay "
+                    "the trace (uninterpreted floor). Loads since sets and tuples are supported: not yet studied"),
+    ("clocks5", "A0"): (
+        "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2 (wait(2) in the "
+                    "inner s0's entry, then sinceEntry(s0) >= 2 holds at once): the outer and inner state are "
+                    "both named s0, and sinceEntry(s0) reads the inner one. Loads since sets are supported: "
+                    "not yet studied"),
+}
+
+# (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.
+UNDECIDED = {
+    ("clocks3", "R1"): "Z3 answers unknown at depth 5 ('incomplete quantifiers'; the case has a Set(nat) "
+                       "constant): not yet studied",
+    ("clocks6", "R3timed"): "'terminates' needs termination found within the bound (12 here)",
 }
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
@@ -56,7 +73,7 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
 
 
 def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
-    checked = {k: v for k, v in results().items() if v[0] != "unsupported"}
+    checked = {k: v for k, v in results().items() if v[0] != "unsupported" and k not in UNDECIDED}
     wrong = {k: v for k, v in checked.items() if v[0] != "holds" and DIFFERENCES.get(k, ("",))[0] != v[0]}
     assert not wrong
     holding = sum(1 for v in checked.values() if v[0] == "holds")
@@ -67,8 +84,12 @@ def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
 
 def test_one_assertion_is_decided_differently_from_robotool() -> None:
     """The differences left: RoboTool's expectation is that every assertion holds."""
-    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported")}
+    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported", "unknown")}
     assert differ == set(DIFFERENCES)
+
+
+def test_undecided_assertions_are_the_recorded_ones() -> None:
+    assert {k for k, v in results().items() if v[0] == "unknown"} == set(UNDECIDED)
 
 
 def test_csp_refinements_in_the_subset_are_checked() -> None:
