@@ -43,21 +43,19 @@ def sort_of(t: ast.Type) -> z3.SortRef:
     raise Unsupported(ast.Pos("<model>", 1, 1), f"values of type {t} are not encoded yet")
 
 
-_DATATYPES: dict[tuple[int, ast.Type], tuple[z3.Context, z3.DatatypeSortRef]] = {}
-
-
 def _datatype(t: ast.RecordType | ast.ProductType) -> z3.DatatypeSortRef:
-    """The datatype of a record or tuple type in the current Z3 context (one per context)."""
+    """The datatype of a record or tuple type in the current Z3 context, made once per context.
+
+    The sorts are kept on the context object itself, so they live and die with it (each check has a
+    context of its own), rather than in a module-level table that would keep every context alive."""
     ctx = z3.main_ctx()
-    kept = _DATATYPES.get((id(ctx), t))
-    if kept is not None and kept[0] is ctx:
-        return kept[1]
-    name = _qualified(t)
-    dt = z3.Datatype(name)
-    dt.declare(f"mk {name}", *[(f"{name}.{f}", sort_of(ft)) for f, ft in parts(t)])
-    sort = dt.create()
-    _DATATYPES[(id(ctx), t)] = (ctx, sort)
-    return sort
+    kept: dict[ast.Type, z3.DatatypeSortRef] = ctx.__dict__.setdefault("tockbmc_datatypes", {})
+    if t not in kept:
+        name = _qualified(t)
+        dt = z3.Datatype(name)
+        dt.declare(f"mk {name}", *[(f"{name}.{f}", sort_of(ft)) for f, ft in parts(t)])
+        kept[t] = dt.create()
+    return kept[t]
 
 
 def _qualified(t: ast.Type) -> str:
