@@ -138,3 +138,24 @@ def test_spacer_does_not_choose_a_parametric_bound(project: tockbmc.Project) -> 
                               setup.constants, context=q.context)
     [goal] = q.goals
     assert Spacer(system, goal.target(system)).run(30) == "reachable"
+
+
+def test_conditions_read_as_the_model_names_them() -> None:
+    import z3
+
+    from tockbmc.bmc.regions import condition_text
+
+    lo, hi, r = z3.Int("lo"), z3.Int("hi"), z3.Real("r")
+    names = {"lo": "core_int.low", "hi": "core_int.high", "r": "limit"}
+    assert condition_text([[z3.Not(0 <= lo)]], names, {"lo", "hi"}) == "core_int.low ≤ -1"
+    assert condition_text([[lo > -5, lo < 3, lo <= hi]], names, {"lo", "hi"}) == \
+        "-4 ≤ core_int.low ≤ 2 and core_int.low ≤ core_int.high"
+    assert condition_text([[r < hi - z3.RealVal("1/2")], [lo == 2]], names, {"lo", "hi"}) == \
+        "limit < core_int.high - 0.5 or core_int.low = 2"
+    assert condition_text([], names, set()) == "false" and condition_text([[]], names, set()) == "true"
+
+
+def test_a_computation_cut_short_says_so(project: tockbmc.Project) -> None:
+    """Out of time: the region found so far is certain, the outside is not known, and it is said."""
+    [e] = explore(project, ["G"], timeout=0.001)
+    assert e.status == "unknown" and e.reach == "partial" and e.reason

@@ -387,8 +387,10 @@ def _relation_text(coeffs: dict[str, Fraction], op: str, const: Fraction, names:
         n = names.get(sym, sym)
         return n if c == 1 else f"{real_text(c)}·{n}"
 
-    left = [term(s, c) for s, c in coeffs.items() if c > 0]
-    right = [term(s, -c) for s, c in coeffs.items() if c < 0]
-    if const or not right:
-        right.append(real_text(const))
-    return f"{' + '.join(left)} {_SHOW[op]} {' + '.join(right)}"
+    left = " + ".join(term(s, c) for s, c in coeffs.items() if c > 0)
+    right = " + ".join(term(s, -c) for s, c in coeffs.items() if c < 0)
+    if not right:
+        right = real_text(const)
+    elif const:
+        right += f" - {real_text(-const)}" if const < 0 else f" + {real_text(const)}"
+    return f"{left} {_SHOW[op]} {right}"
