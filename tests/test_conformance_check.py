@@ -35,10 +35,14 @@ DIFFERENCES = {
                     "Avoid's wait(floor(random() * 360 / av)) may last any time; the interpreter cannot replay "
                     "the trace (uninterpreted floor). Loads since sets and tuples are supported: not yet studied"),
     ("clocks5", "A0"): (
-        "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2 (wait(2) in the "
-                    "inner s0's entry, then sinceEntry(s0) >= 2 holds at once): the outer and inner state are "
-                    "both named s0, and sinceEntry(s0) reads the inner one. Loads since sets are supported: "
-                    "not yet studied"),
+        "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2, so its trace "
+                    "<opACall, tock, tock, term.out> is not one of Spec's: "
+                    "t2's sinceEntry(s0) >= 2 names the outer s0 (the transition's scope), which has no entry "
+                   "action and is entered at time 0, so it holds once the inner s0's entry (opA(); wait(2)) has "
+                   "run. RoboTool resets a state's clock on S::entered; its 4 tocks mean either that a composite "
+                   "counts as entered once its inner state's entry has run, or that state clocks are named by "
+                   "the state's simple name (CLID_s0), so the inner s0's entered resets it too: the evidence we "
+                   "have settles neither (DESIGN.md, Conformance)"),
 }
 
 # (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.
@@ -46,6 +50,7 @@ UNDECIDED = {
     ("clocks3", "R1"): "Z3 answers unknown at depth 5 ('incomplete quantifiers'; the case has a Set(nat) "
                        "constant): not yet studied",
     ("clocks6", "R3timed"): "'terminates' needs termination found within the bound (12 here)",
+    ("clocks5", "R3timed"): "'terminates': termination takes 13 steps (holds at the default bound 40)",
 }
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.

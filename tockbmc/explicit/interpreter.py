@@ -1572,11 +1572,12 @@ class Interpreter:
             elif tag == "e":
                 path = head[1]
                 node = beh.nodes[path]
-                s = self._slot_of.get(("since", ctx.i, f.beh, path))
-                if s is not None:
-                    ctx.set(s, 0)
                 pre = (("s", self._sid_of(node.entry)),) if node.kind == "state" and node.entry is not None else ()
-                frames[-1] = f._replace(node=path, cont=(*pre, *rest), via=None)
+                since = (("r", path),) if ("since", ctx.i, f.beh, path) in self._slot_of else ()
+                frames[-1] = f._replace(node=path, cont=(*pre, *since, *rest), via=None)
+            elif tag == "r":  # the entry action has run: sinceEntry counts from here (RoboTool's `S::entered`)
+                ctx.set(self._slot_of[("since", ctx.i, f.beh, head[1])], 0)
+                frames[-1] = f._replace(cont=rest)
             elif tag == "a":
                 target, durs = head[1], head[2]
                 node = beh.nodes[target]

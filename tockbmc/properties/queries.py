@@ -146,8 +146,8 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     spec_name = a.other if impl is left else a.subject
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
-    if impl is left:
-        goals = (_refinement_goal(a, name),)
+    if impl is left or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
+        goals = (_refinement_goal(a, name, spec_name or ""),)
     inclusion = a.kind == "equals" or impl is right
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
@@ -180,7 +180,8 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
     return Query(assertion=a, element=element, goals=(goal,), context=context, settings=settings, defined=defined)
 
 
-def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
+def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
+    """Every trace of the model `name` is one of the specification `spec` (a monitor beside the model)."""
     def violated(system: TransitionSystem) -> z3.BoolRef:
         assert isinstance(system.extension, MonitorExtension)
         return system.extension.violated(system)
@@ -197,13 +198,13 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
             allowed = ext.allowed(before)
             offer = (f"; there it can do {allowed[0]}" if allowed == ["any event but tock"]
                      else f"; there it can do only {', '.join(allowed)}" if allowed else "; there it can do nothing")
-            return f"{a.other} cannot do {last} after the events before it{offer}"
+            return f"{spec} cannot do {last} after the events before it{offer}"
         rest = " ".join(ext.bad_end.get(state, []))
-        return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
+        return f"after {name} terminates, the process goes on with {rest}, which {spec} cannot do"
 
-    claim = f"every trace is a trace of {a.other}"
+    claim = f"every trace is a trace of {spec}"
     if a.negated:
-        return Goal.witness(violated, describe, sought=f"a trace {a.other} cannot do", claim=claim)
+        return Goal.witness(violated, describe, sought=f"a trace {spec} cannot do", claim=claim)
     return Goal.violation(violated, describe, claim=claim)
 
 
