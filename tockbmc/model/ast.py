@@ -397,6 +397,17 @@ class Let(Expr):
 
 
 @dataclass(frozen=True)
+class Quantifier(Expr):
+    """`forall x : T | c @ p`, `exists …`, `exists1 …` (`kind`): `variables` (kind "bound") range
+    over their types' values (within the ranges in force); `condition` (None: true) restricts them."""
+
+    kind: str  # forall | exists | exists1
+    variables: tuple[Variable, ...]
+    condition: Expr | None
+    body: Expr
+
+
+@dataclass(frozen=True)
 class Since(Expr):
     clock: Clock
 

@@ -23,8 +23,6 @@ Report = Callable[[Pos, str], None]
 
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
-    "forall_expr": "quantified expressions ('forall')",
-    "exists_expr": "quantified expressions ('exists')",
     "lambda_expr": "lambda expressions",
     "definite_description": "definite descriptions ('the')",
     "set_range_expr": "sets ('{a to b}')",
@@ -439,6 +437,39 @@ class ExprChecker:
         for var, value in reversed(bound):
             body = ast.Let(body.type, p, var, value, body)
         return body
+
+    def _bind(self, decls: Tree, what: str, p: Pos) -> list[ast.Variable]:
+        """The variables `x : T, …` a quantifier or lambda declares, added to the scope (the caller
+        restores it)."""
+        bound = []
+        for d in decls.children:
+            name = str(d.children[0])
+            var = ast.Variable(name, self.resolve_type(d.children[1]), True,
+                               f"{self.scope.owner}::{what}@{p.line}:{p.column}", self.pos(d.children[0]), None, "bound")
+            self.scope.variables[name] = var
+            bound.append(var)
+        return bound
+
+    def _quantifier(self, node: Tree, p: Pos, kind: str) -> ast.Expr:
+        decls, *rest = node.children
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, kind, p)
+            condition = self.condition(rest[0]) if len(rest) == 2 else None
+            body = self.expect(rest[-1], self.expr(rest[-1]), BOOLEAN, f"the predicate of '{kind}'")
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        return ast.Quantifier(BOOLEAN, p, kind, tuple(bound), condition, body)
+
+    def _x_forall_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "forall")
+
+    def _x_exists_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "exists")
+
+    def _x_exists1_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "exists1")
 
     def _x_since_expr(self, node: Tree, p: Pos) -> ast.Expr:
         name = qname_text(node.children[0])
