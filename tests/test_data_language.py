@@ -12,6 +12,7 @@ from tockbmc import ModelError, Project, load
 from tockbmc.check import check
 from tockbmc.explicit.engine import check_explicit
 from tockbmc.explicit.interpreter import Unbounded
+from tockbmc.model import ast
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Verdict
 
@@ -82,4 +83,49 @@ def test_a_quantifier_s_predicate_must_be_boolean(tmp_path: Path) -> None:
     model = "stm M {\n  var x : nat = 0\n  initial i\n  state s {}\n" \
             "  transition t0 { from i to s condition forall y : nat @ y + 1 }\n}\n"
     with pytest.raises(ModelError, match="the predicate of 'forall' must be boolean"):
+        _project(tmp_path, model)
+
+GENERIC = """\
+function first(p : ?X * ?Y) : ?X { postcondition result == p[1] }
+function both(a : ?X, b : ?X) : Seq(?X) { postcondition result == <a, b> }
+function card(A : Set(?X)) : nat { }
+function UpdateValue(value : ?X * nat, newValue : ?X * nat) : boolean { }
+stm M {
+  var x : nat = 0
+  var b : boolean = false
+  event e : nat
+  event out : int
+  initial i
+  state S0 { }
+  state S1 { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S1 trigger e?x
+                  condition first((| x, true |)) == 2 /\\ first((| false, x |)) == false /\\ both(x, -1)[2] < 0
+                  action out!first((| both(x, -1)[2], 0 |)) }
+}
+"""
+
+
+def test_generic_functions_are_instantiated_at_each_call(tmp_path: Path) -> None:
+    project = _project(tmp_path, GENERIC, "assertion R: S1 is reachable in M.\n")
+    calls = {c.function.qname for t in project.machines[0].transitions
+             for c in ast.subexpressions((t.condition, t.action)) if isinstance(c, ast.Call)}
+    assert calls == {"first[?X=nat, ?Y=boolean]", "first[?X=boolean, ?Y=nat]", "both[?X=int]",
+                     "first[?X=int, ?Y=nat]"}
+    [bmc] = check(project, bound=8, ranges=NAT03)
+    assert bmc.verdict == Verdict.HOLDS and bmc.extra["replayed"] == "yes"
+    assert [s.event for s in bmc.trace if s.event and s.event != "tock"] == ["M::e.in.2", "M::out.out.-1"]
+    [explicit] = check_explicit(project, ["R"], 8, NAT03, {}, None)
+    assert explicit.verdict == Verdict.HOLDS
+
+
+
+
+@pytest.mark.parametrize(("statement", "message"), [
+    ("b = UpdateValue((| 1, 2 |), (| true, 2 |))", "the arguments of 'UpdateValue' give one generic type two types"),
+    ("x = pick()", "unsupported: a call of 'pick' whose arguments do not fix its generic type \\?X"),
+])
+def test_generic_calls_that_fix_no_type_or_two_types(tmp_path: Path, statement: str, message: str) -> None:
+    model = ("function pick() : ?X { }\n" + GENERIC).replace("action out!", f"action {statement} ; out!")
+    with pytest.raises(ModelError, match=message):
         _project(tmp_path, model)

@@ -74,6 +74,8 @@ class Scope:
     states: dict[str, str] = field(default_factory=dict)  # name or path -> node path
     result_type: ast.Type | None = None
     toolkit: bool = False  # the file imports a toolkit: its functions are unknown here
+    # The instance of a generic function for bindings of its `?X` (None: could not be built).
+    instantiate: Callable[[ast.Function, dict[str, ast.Type]], ast.Function | None] = lambda f, b: None
 
 
 class ExprChecker:
@@ -305,11 +307,31 @@ class ExprChecker:
             for a in args_nodes:
                 self.expr(a)
             return ast.Literal(ERROR, p, 0)
-        args = self._arguments(node, name, args_nodes, function.parameters)
+        args = tuple(self.expr(a) for a in args_nodes)
+        if function.generic and len(args) == len(function.parameters):
+            bindings: dict[str, ast.Type] = {}
+            if not all(ast.unify(q.type, a.type, bindings) for q, a in zip(function.parameters, args, strict=True)):
+                self.error(node, f"type error: the arguments of '{name}' give one generic type two types: "
+                           f"{', '.join(str(a.type) for a in args)}")
+                return ast.Literal(ERROR, p, 0)
+            unbound = sorted(set().union(ast.type_vars(function.result), *(ast.type_vars(q.type) for q in function.parameters))
+                             - set(bindings))
+            if unbound:
+                self.error(node, f"unsupported: a call of '{name}' whose arguments do not fix its generic "
+                           f"type{'s' if len(unbound) > 1 else ''} {', '.join('?' + v for v in unbound)}")
+                return ast.Literal(ERROR, p, 0)
+            instance = self.scope.instantiate(function, bindings)
+            if instance is None:
+                return ast.Literal(ERROR, p, 0)
+            function = instance
+        args = self._check_arguments(node, name, args_nodes, args, function.parameters)
         return ast.Call(function.result, p, function, args)
 
     def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
-        args = tuple(self.expr(a) for a in args_nodes)
+        return self._check_arguments(node, name, args_nodes, tuple(self.expr(a) for a in args_nodes), params)
+
+    def _check_arguments(self, node: Tree, name: str, args_nodes: list, args: tuple[ast.Expr, ...],
+                         params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
         if len(args) != len(params):
             self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given")
             return args
