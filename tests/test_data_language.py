@@ -129,3 +129,37 @@ def test_generic_calls_that_fix_no_type_or_two_types(tmp_path: Path, statement: 
     model = ("function pick() : ?X { }\n" + GENERIC).replace("action out!", f"action {statement} ; out!")
     with pytest.raises(ModelError, match=message):
         _project(tmp_path, model)
+
+
+GIVEN_ORDER = """\
+type Intensity
+function goreq(i1 : Intensity, i2 : Intensity) : boolean { postcondition result == (i1 > i2) }
+stm M {
+  var a : Intensity
+  var b : Intensity
+  event e : Intensity
+  initial i
+  state S0 { }
+  state S1 { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S1 trigger e?a condition goreq(a, b) }
+}
+"""
+
+
+def test_order_on_a_given_type_in_a_function_s_conditions_as_robotool(tmp_path: Path) -> None:
+    # RoboTool's type checker gives `i1 > i2` on a given type no type, but checks only guards,
+    # actions and the like, not functions' conditions: there it is accepted (its CSP orders the
+    # type's values, integers, as tockbmc does).
+    project = _project(tmp_path, GIVEN_ORDER, "assertion R: S1 is reachable in M.\n")
+    ranges = Ranges({"Intensity": Range(Fraction(0), Fraction(1))})
+    [bmc] = check(project, bound=8, ranges=ranges)
+    assert bmc.verdict == Verdict.HOLDS and bmc.extra["replayed"] == "yes"
+    assert [s.event for s in bmc.trace if s.event and s.event != "tock"] == ["M::e.in.1"]
+    [explicit] = check_explicit(project, ["R"], 8, ranges, {}, None)
+    assert explicit.verdict == Verdict.HOLDS
+
+
+def test_order_on_a_given_type_in_a_guard_is_refused_as_by_robotool(tmp_path: Path) -> None:
+    with pytest.raises(ModelError, match="'>' compares numbers, but this is Intensity"):
+        _project(tmp_path, GIVEN_ORDER.replace("condition goreq(a, b)", "condition a > b"))

@@ -247,6 +247,11 @@ class ExprChecker:
                 self.error(node, f"type error: cannot compare {left.type} with {right.type}")
             return ast.Binary(BOOLEAN, p, op, left, right)
         if op in _ORDER:
+            if self.scope.result_type is not None and isinstance(left.type, ast.GivenType) and left.type == right.type:
+                # RoboTool gives `a > b` on a given type no type, and checks types in conditions,
+                # guards and actions, but not in a function's pre- and postconditions, where it is
+                # accepted; its CSP orders the type's values, which are integers (as tockbmc's are).
+                return ast.Binary(BOOLEAN, p, op, left, right)
             for side, e in ((left_node, left), (right_node, right)):
                 if not ast.is_numeric(e.type):
                     self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
