@@ -64,7 +64,7 @@ def test_engines_agree_on_random_machines_against_specifications(case: tuple[str
 
 
 # Sequences, sets and tuples in variables, an input sequence, guards and updates (issue 15).
-@_settings(6)
+@_settings(4)
 @given(cases(data_machine_text))
 def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> None:
     _agree(*case, ranges=_cases.DATA_RANGES)
