@@ -1,12 +1,14 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
-[--specs]
+[--specs] [--data]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` four
 refinements of specifications that tell values of its events apart), checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
-`--timeout` seconds per assertion.  Definite outcomes are compared, counterexample lengths
+`--timeout` seconds per assertion.  With `--data` the machines also hold a sequence, a set and a
+tuple, updated and read by their actions and guards (quantifiers too), and receive a sequence
+whose length is at most 2 (`DATA_RANGES`).  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that
 `random_case(seed)` reproduces it.
 """
@@ -22,16 +24,16 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from differential_cases import compare, random_case  # noqa: E402
+from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa: E402
 
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool]) -> tuple[int, list | None]:
-    seed, timeout, controllers, specs = job  # past the timeout an outcome is unknown, so not comparable
-    rct, assertions = random_case(seed, controllers, specs)
+def run(job: tuple[int, float, float, bool, bool]) -> tuple[int, list | None]:
+    seed, timeout, controllers, specs, data = job  # past the timeout an outcome is unknown, so not comparable
+    rct, assertions = random_case(seed, controllers, specs, data)
     try:
-        return seed, compare(rct, assertions, timeout=timeout)
+        return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
     except tockbmc.ModelError:
         return seed, None
 
@@ -47,10 +49,11 @@ def main() -> None:
                              "about five machines)")
     parser.add_argument("--specs", action="store_true",
                         help="also check refinements of specifications that tell values apart")
+    parser.add_argument("--data", action="store_true", help="machines with sequences, sets and tuples")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
-    seeds = [(seed, args.timeout, args.controllers, args.specs) for seed in range(args.seed, args.seed + args.cases)]
+    seeds = [(seed, args.timeout, args.controllers, args.specs, args.data) for seed in range(args.seed, args.seed + args.cases)]
     with multiprocessing.Pool(args.jobs) as pool:
         done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)
         for seed, outcomes in done:

@@ -35,22 +35,37 @@ from tockbmc.model.result import Proof, Result
 RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)", "op(x)", "c <{1}"]
 CONDITIONS = ["x > 0", "x == 0", "x < 1", "since(C) >= 1", "since(C) < 2", "x != 1"]
+# With `data`: a sequence, a set and a tuple, updated and read, and an input sequence `d` whose
+# length is bounded by a range on its path (`M::d`), as the explicit engine needs one.
+DATA_DECLARATIONS = ["  event d : Seq(int)", "  var s : Seq(int) = <>", "  var u : Set(int) = {}",
+                     "  var p : int * boolean = (| 0, true |)"]
+DATA_STATEMENTS = ["s = s ^ <x>", "s = tail(s)", "u = union(u, {x})", "u = diff(u, {x, 1})", "p = (| x, not p[2] |)",
+                   "x = size(s) - 1", "s = reverse(s) ^ <p[1]>", "b!size(filter(s, u))", "x = p[1]"]
+DATA_CONDITIONS = ["size(s) < 2", "x in u", "p[2]", "size(s) > 0 /\\ head(s) == x", "s == <>",
+                   "subseteq(u, {0, 1})", "exists i : int @ i in u /\\ i > x", "forall i : int | i in u @ i <= p[1]",
+                   "elems(s) == u", "p == (| x, true |)"]
+DATA_TRIGGERS = ["d?s", "d.<1>"]
+DATA_RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))},
+                     {"M::d": Range(Fraction(0), Fraction(2))})
 
 
 def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
-                 name: str = "M") -> tuple[str, list[str]]:
-    """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose."""
+                 name: str = "M", data: bool = False) -> tuple[str, list[str]]:
+    """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose.
+    With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …)."""
+    statements = STATEMENTS + DATA_STATEMENTS if data else STATEMENTS
+    conditions = CONDITIONS + DATA_CONDITIONS if data else CONDITIONS
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
     composite = number(0, 1) == 1
     lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
-             "  var x : int = 0", "  clock C", "  initial i"]
+             "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []), "  initial i"]
     for s in states:
-        entry = f" entry {pick(STATEMENTS)}" if number(0, 1) else ""
+        entry = f" entry {pick(statements)}" if number(0, 1) else ""
         if s == "S0" and composite:
             lines += [f"  state S0 {{{entry}", "    initial j", "    state In {}", "    state Out {}",
                       "    transition u0 { from j to In }",
-                      f"    transition u1 {{ from In to Out condition {pick(CONDITIONS)} }}", "  }"]
+                      f"    transition u1 {{ from In to Out condition {pick(conditions)} }}", "  }"]
         else:
             lines.append(f"  state {s} {{{entry} }}")
     targets = list(states)
@@ -68,18 +83,24 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
         dst = pick(targets)
         parts = [f"from {src} to {dst}"]
         if src != "J":
-            trigger = pick(["", "a?x", "c", "a.1", "c <{1}"])
+            trigger = pick(["", "a?x", "c", "a.1", "c <{1}", *(DATA_TRIGGERS if data else [])])
             if trigger:
                 parts.append(f"trigger {trigger}")
         if number(0, 1) or src == "J":
-            parts.append(f"condition {pick(CONDITIONS)}")
+            parts.append(f"condition {pick(conditions)}")
         if number(0, 2) == 0:
-            parts.append(f"action {pick(STATEMENTS)}")
+            parts.append(f"action {pick(statements)}")
         lines.append(f"  transition t{k + 1} {{ {' '.join(parts)} }}")
     if "J" in targets and not any("from J " in line for line in lines):
         lines.append(f"  transition tj {{ from J to {states[0]} }}")
     lines.append("}")
     return "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states
+
+
+def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
+    """A random machine with sequences, sets and tuples among its data (`machine_text`)."""
+    rct, states = machine_text(pick, number, data=True)
+    return "import sequence_toolkit::*\nimport set_toolkit::*\n" + rct, states
 
 
 def network_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
@@ -174,7 +195,8 @@ def _definite_explicit(r: Result) -> str | None:
     return None
 
 
-def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8, timeout: float = 20) -> list[Outcome]:
+def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8, timeout: float = 20,
+            ranges: Ranges = RANGES) -> list[Outcome]:
     """Check a model with both engines; one `Outcome` per assertion.
 
     Both engines' counterexamples must have as many visible steps.  The explicit engine's have the
@@ -189,8 +211,8 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
         (Path(d) / "m.rct").write_text(rct)
         (Path(d) / "m.assertions").write_text(assertions)
         project = tockbmc.load(d)
-        symbolic = {r.assertion: r for r in check(project, bound=bound, ranges=RANGES, timeout=timeout)}
-        concrete = {r.assertion: r for r in check_explicit(project, None, explicit_bound, RANGES, {}, timeout, 200_000)}
+        symbolic = {r.assertion: r for r in check(project, bound=bound, ranges=ranges, timeout=timeout)}
+        concrete = {r.assertion: r for r in check_explicit(project, None, explicit_bound, ranges, {}, timeout, 200_000)}
         out = []
         for name, b in symbolic.items():
             e = concrete[name]
@@ -201,13 +223,13 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
             same: bool | None = b.verdict == e.verdict
             note = ""
             if same and db.startswith("found") and de.startswith("found"):
-                same, note = _same_length(project, name, b, e, bound, timeout)
+                same, note = _same_length(project, name, b, e, bound, timeout, ranges)
             out.append(Outcome(name, b.verdict, e.verdict, same, note))
     return out
 
 
 def _same_length(project: object, name: str, b: Result, e: Result,
-                 bound: int, timeout: float) -> tuple[bool | None, str]:
+                 bound: int, timeout: float, ranges: Ranges) -> tuple[bool | None, str]:
     """Whether two counterexamples of one verdict have as many visible steps (None: not comparable)."""
     if "is not deterministic" in (b.reason or "") and "is not deterministic" in (e.reason or ""):
         # BMC's pair of runs has the fewest steps of the two together, not the fewest visible events.
@@ -224,7 +246,7 @@ def _same_length(project: object, name: str, b: Result, e: Result,
     for k in (bound, 3 * bound):
         if vb <= ve:
             break
-        b = check(project, [name], bound=k, ranges=RANGES, timeout=timeout, shortest="events")[0]  # type: ignore[arg-type]
+        b = check(project, [name], bound=k, ranges=ranges, timeout=timeout, shortest="events")[0]  # type: ignore[arg-type]
         if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1] or "shortest" in b.extra:
             return None, f"BMC asked for the fewest visible steps within {k} steps: {b.verdict}, {b.reason}"
         vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
@@ -253,10 +275,11 @@ def _visible(r: Result) -> int:
     return sum(1 for s in r.trace if s.kind != "internal")
 
 
-def random_case(seed: int, controllers: float = 0.25, specs: bool = False) -> tuple[str, str]:
+def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
-    with `specs`, refinements of specifications too (`assertions_text`)."""
+    with `specs`, refinements of specifications too (`assertions_text`); with `data`, a machine
+    with sequences, sets and tuples (`data_machine_text`; check it with `DATA_RANGES`)."""
     rng = random.Random(seed)
-    make = network_text if rng.random() < controllers else machine_text
+    make = data_machine_text if data else network_text if rng.random() < controllers else machine_text
     rct, states = make(rng.choice, rng.randint)
     return rct, assertions_text(states, rng.choice, specs)

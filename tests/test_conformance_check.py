@@ -53,6 +53,14 @@ UNDECIDED = {
     ("clocks5", "R3timed"): "'terminates': termination takes 13 steps (holds at the default bound 40)",
 }
 
+# Cases that load but are not checked here: their assertions take longer than this suite can spend.
+NOT_CHECKED = {
+    "AutonomousChemicalDetector": "loads since quantifiers and generic functions (issue 15); 11 of its 20 "
+                                  "assertions hold in seconds, 7 reach the 60 s timeout (a6, a11-a16: "
+                                  "the module's runs with the quantified axioms of its functions), a7 and a9 "
+                                  "are unsupported; benchmarks/conformance.py checks it",
+}
+
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
 CSP_CHECKED = {("test2", "t2a_timed"): "holds", ("test2", "t2b_timed"): "holds", ("test9", "A2"): "holds",
                ("test8", "A2"): "violated", ("clocks-ops2", "A1"): "holds", ("clocks-ops3", "A1"): "holds",
@@ -68,6 +76,8 @@ def robotool_config(project: ast.Project) -> Configuration:
 def results() -> dict[tuple[str, str], tuple[str, str]]:
     out = {}
     for case in sorted((CONFORMANCE / "robochart").iterdir()):
+        if case.name in NOT_CHECKED:
+            continue
         try:
             project = load(case)
         except ModelError:

@@ -16,8 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 _cases = load_differential()
-assertions_text, compare, machine_text, network_text = (
-    _cases.assertions_text, _cases.compare, _cases.machine_text, _cases.network_text)
+assertions_text, compare, machine_text, network_text, data_machine_text = (
+    _cases.assertions_text, _cases.compare, _cases.machine_text, _cases.network_text, _cases.data_machine_text)
 
 
 @st.composite
@@ -63,8 +63,15 @@ def test_engines_agree_on_random_machines_against_specifications(case: tuple[str
     _agree(*case)
 
 
-def _agree(rct: str, assertions: str) -> None:
-    wrong = [o for o in compare(rct, assertions) if o.agree is False]
+# Sequences, sets and tuples in variables, an input sequence, guards and updates (issue 15).
+@_settings(4)
+@given(cases(data_machine_text))
+def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> None:
+    _agree(*case, ranges=_cases.DATA_RANGES)
+
+
+def _agree(rct: str, assertions: str, ranges: object = None) -> None:
+    wrong = [o for o in compare(rct, assertions, ranges=ranges or _cases.RANGES) if o.agree is False]
     assert not wrong, (rct, wrong)
 
 

@@ -550,7 +550,7 @@ def test_suggestion_for_unimported_literal_differs_from_the_name(tmp_path: Path)
 
 @pytest.mark.parametrize(("declaration", "column", "message"), [
     ("var s : vector(int, 2)", 11, "unsupported: vectors and matrices"),
-    ("var s : boolean = forall k : int @ k > 0", 21, "unsupported: quantified expressions ('forall')"),
+    ("var s : boolean = (lambda k : int @ k > 0)(1)", 22, "unsupported: lambda expressions"),
     ("var s : Set(int) = {1 to 2}", 22, "unsupported: sets ('{a to b}')"),
 ])
 def test_unsupported_construct_at_its_line(tmp_path: Path, declaration: str, column: int, message: str) -> None:

@@ -129,7 +129,11 @@ def nondeterminism(system: TransitionSystem, bound: int, timeout: float | None =
             solver.add(z3.Implies(previous_b_internal, z3.Not(a_internal)))
         previous_b_internal = b_internal
         solver.add(a.action(k) >= 0, a.action(k) <= system.TOCK, b.action(k) >= 0, b.action(k) <= system.TOCK)
-        moved.append((z3.Or(a_internal, joint, both_internal), z3.Or(b_internal, joint, both_internal)))
+        # Named by Boolean constants, whose values a model always gives: evaluating the formulas
+        # themselves in a model fails where they hold quantifiers (the elements of an input sequence).
+        a_moved, b_moved = z3.Bool(f"A moved@{k}"), z3.Bool(f"B moved@{k}")
+        solver.add(a_moved == z3.Or(a_internal, joint, both_internal), b_moved == z3.Or(b_internal, joint, both_internal))
+        moved.append((a_moved, b_moved))
     return Pair(Status.NOT_FOUND, bound)
 
 

@@ -202,7 +202,7 @@ class TransitionSystem:
             env.update(extra)
         name = self.components[c].name
         clocks = {clock: self.cur[names.clock(name, clock)] for clock in self.components[c].automaton.clocks}
-        return Evaluator(env, self.constants[c], self.side, clocks)
+        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges)
 
     # ------------------------------------------------------------ event labels (CSP's view)
 
@@ -318,7 +318,7 @@ class TransitionSystem:
         given = constant_setting(self.settings, v, decl)  # keyed by declaration (model/config.py)
         expr = given if given is not None else decl.initial
         if expr is not None:
-            self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))
+            self.constraints.append(equal(value, Evaluator({}, {}, self.side, ranges=self.ranges).value(expr)))
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
             self.open_constants.setdefault(declaration_key(decl), value)
@@ -404,7 +404,7 @@ class TransitionSystem:
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
         for a in e.updates:
-            new = Evaluator(current, self.constants[c], self.side, ev.clocks).value(a.value)
+            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges).value(a.value)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)

@@ -206,11 +206,18 @@ class Evaluator:
     """Translates typed model expressions into Z3 terms over an environment."""
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
-                 clocks: dict[str, z3.ExprRef] | None = None):
+                 clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
         self.clocks = clocks or {}  # clock name (or `sinceEntry(S)`) -> tocks counted
+        self.ranges = ranges or Ranges()  # the ranges quantified variables take their values in
+
+    def _inner(self, env: dict[int, Value], constants: dict[int, Value] | None = None,
+               side: list[z3.BoolRef] | None = None) -> Evaluator:
+        """An evaluator for a nested scope (a `let`, a quantifier, a function's body)."""
+        return type(self)(env, self.constants if constants is None else constants,
+                          self.side if side is None else side, self.clocks, self.ranges)
 
     def value(self, e: ast.Expr) -> Value:
         """The Z3 value of `e`: operands first, from an explicit stack (expressions may nest
@@ -283,8 +290,9 @@ class Evaluator:
             return _collection(e, operands)
         if isinstance(e, ast.Let):
             [bound] = operands
-            inner = Evaluator({**self.env, id(e.variable): bound}, self.constants, self.side, self.clocks)
-            return inner.value(e.body)
+            return self._inner({**self.env, id(e.variable): bound}).value(e.body)
+        if isinstance(e, ast.Quantifier):
+            return self._quantifier(e)
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
             if name not in self.clocks:
@@ -295,7 +303,8 @@ class Evaluator:
     def _call(self, e: ast.Call, args: list[Value]) -> Value:
         f = e.function
         if f.definition is not None:
-            inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side)
+            inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side,
+                              ranges=self.ranges)
             defined = inner.value(f.definition)
             if not f.preconditions:
                 return defined
@@ -319,12 +328,44 @@ class Evaluator:
             return unpack(packed, f.result)
         result = packed
         # The axiom `pre => post`, instantiated at this call: exact, since only called points matter.
-        ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side)
+        ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side, ranges=self.ranges)
         pre = [ev.scalar(c) for c in f.preconditions]
         post = [_with_result(ev, c, result) for c in f.postconditions]
         if post:
             self.side.append(z3.Implies(z3.And(pre), z3.And(post)))
         return result
+
+
+    def _quantifier(self, e: ast.Quantifier) -> z3.BoolRef:
+        """`forall`/`exists`/`exists1` as a Z3 quantifier over fresh constants, each in its type's
+        domain within the ranges in force (as a value the environment supplies). The side
+        constraints the body adds (axioms of uninterpreted functions at the bound points) hold for
+        every value of the bound variables, so they are quantified too."""
+        values: dict[int, Value] = {}
+        consts: list[z3.ExprRef] = []
+        dom: list[z3.BoolRef] = []
+        for v in e.variables:
+            x = z3.Const(f"{v.name}!{e.pos.line}:{e.pos.column}", sort_of(v.type))
+            consts.append(x)
+            values[id(v)] = unpack(x, v.type)
+            dom += domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")
+        side: list[z3.BoolRef] = []
+        inner = self._inner({**self.env, **values}, side=side)
+        cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
+        body = inner.scalar(e.body)
+        self.side += [z3.ForAll(consts, c) for c in side]
+        guard = z3.And(*dom, cond)
+        if e.kind == "forall":
+            return z3.ForAll(consts, z3.Implies(guard, body))
+        found = z3.Exists(consts, z3.And(guard, body))
+        if e.kind == "exists":
+            return found
+        # exists1: some value does, and any value that does is that one.
+        others = [z3.Const(f"{x}'", x.sort()) for x in consts]
+        renamed = [z3.substitute(z3.And(guard, body), *zip(consts, others, strict=True))]
+        unique = z3.ForAll(consts, z3.ForAll(others, z3.Implies(z3.And(guard, body, *renamed),
+                                                                   z3.And([a == b for a, b in zip(consts, others, strict=True)]))))
+        return z3.And(found, unique)
 
 
 def _operands(e: ast.Expr) -> tuple[ast.Expr, ...]:
@@ -469,4 +510,4 @@ def _with_result(ev: Evaluator, cond: ast.Expr, result: z3.ExprRef) -> z3.BoolRe
                 return result
             return super()._apply(e, operands)
 
-    return _R(ev.env, ev.constants, ev.side, ev.clocks).scalar(cond)
+    return _R(ev.env, ev.constants, ev.side, ev.clocks, ev.ranges).scalar(cond)

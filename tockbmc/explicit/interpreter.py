@@ -869,6 +869,8 @@ class Interpreter:
         return s
 
     def _reg_var(self, i: int, var: ast.Variable, op: ast.OperationDef | None) -> None:
+        if var.kind in ("let", "bound"):  # named inside an expression: bound there, never stored
+            return
         key = self._vkey(i, var)
         inst = self.insts[i].name
         if key[0] == "shared":
@@ -1331,7 +1333,31 @@ class Interpreter:
                 return self._ev(ctx, e.body)
             finally:
                 ctx.bind = saved
+        if isinstance(e, ast.Quantifier):
+            return self._quantifier(ctx, e)
         raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _quantifier(self, ctx: _Ctx, e: ast.Quantifier) -> bool:
+        """`forall`/`exists`/`exists1`, by trying every value of the bound variables' types within
+        the ranges (a type without one is `Unbounded`: its values cannot be listed)."""
+        domains = [self.domain(v.type) for v in e.variables]
+        saved = ctx.bind
+        found = 0
+        try:
+            for combo in itertools.product(*domains):
+                ctx.bind = {**(saved or {}), **{(v.owner, v.name): x for v, x in zip(e.variables, combo, strict=True)}}
+                if e.condition is not None and not self._ev(ctx, e.condition):
+                    continue
+                holds = bool(self._ev(ctx, e.body))
+                if e.kind == "forall" and not holds:
+                    return False
+                if holds and e.kind != "forall":
+                    found += 1
+                    if e.kind == "exists" or found > 1:
+                        return e.kind == "exists"
+        finally:
+            ctx.bind = saved
+        return e.kind == "forall" or found == 1
 
     def _builtin(self, e: ast.Builtin, args: list) -> object:
         """A built-in operation on sequences and sets, on Python tuples and frozensets."""

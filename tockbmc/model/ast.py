@@ -141,6 +141,51 @@ ANY = AnyElement()
 
 
 @dataclass(frozen=True)
+class TypeVar(Type):
+    """A generic type `?X` in a function's signature: each call fixes it from its arguments."""
+
+    var: str
+
+    @property
+    def name(self) -> str:
+        return f"?{self.var}"
+
+
+def type_vars(t: Type | None) -> set[str]:
+    """The generic types `?X` occurring in `t`."""
+    if isinstance(t, TypeVar):
+        return {t.var}
+    if isinstance(t, (SeqType, SetType)):
+        return type_vars(t.element)
+    if isinstance(t, ProductType):
+        return set().union(*(type_vars(p) for p in t.parts))
+    return set()
+
+
+def unify(param: Type, arg: Type, bindings: dict[str, Type]) -> bool:
+    """Extend `bindings` so that an argument of type `arg` fits a parameter of type `param`
+    (numbers joined: `nat` and `int` arguments for one `?X` make it `int`); False on a clash."""
+    if isinstance(param, TypeVar):
+        if isinstance(arg, (AnyElement, ErrorType)):
+            return True
+        prev = bindings.get(param.var)
+        if prev is None or isinstance(prev, AnyElement):
+            bindings[param.var] = arg
+        elif is_numeric(prev) and is_numeric(arg):
+            bindings[param.var] = numeric_join(prev, arg)
+        elif assignable(arg, prev):
+            bindings[param.var] = arg
+        elif not assignable(prev, arg):
+            return False
+        return True
+    if isinstance(param, SeqType) and isinstance(arg, SeqType) or isinstance(param, SetType) and isinstance(arg, SetType):
+        return unify(param.element, arg.element, bindings)  # type: ignore[union-attr]
+    if isinstance(param, ProductType) and isinstance(arg, ProductType) and len(param.parts) == len(arg.parts):
+        return all(unify(p, a, bindings) for p, a in zip(param.parts, arg.parts, strict=True))
+    return True  # a mismatch is the argument's type error, reported once the types are fixed
+
+
+@dataclass(frozen=True)
 class ErrorType(Type):
     """The type of an expression that failed to check; compatible with all."""
 
@@ -262,6 +307,11 @@ class Function:
     @property
     def name(self) -> str:
         return self.qname.rsplit("::", 1)[-1]
+
+    @property
+    def generic(self) -> bool:
+        """Whether the signature has generic types `?X` (then only its instances are called)."""
+        return bool(type_vars(self.result) or any(type_vars(p.type) for p in self.parameters))
 
 
 @dataclass(frozen=True)
@@ -393,6 +443,17 @@ class Let(Expr):
 
     variable: Variable
     value: Expr
+    body: Expr
+
+
+@dataclass(frozen=True)
+class Quantifier(Expr):
+    """`forall x : T | c @ p`, `exists …`, `exists1 …` (`kind`): `variables` (kind "bound") range
+    over their types' values (within the ranges in force); `condition` (None: true) restricts them."""
+
+    kind: str  # forall | exists | exists1
+    variables: tuple[Variable, ...]
+    condition: Expr | None
     body: Expr
 
 

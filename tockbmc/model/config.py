@@ -457,8 +457,10 @@ class Names:
         if isinstance(t, ast.RecordType):
             raise ConfigError(f"'{name}' is a record; bound one of its fields "
                               f"({', '.join(f'{name}.{x.name}' for x in t.fields)})", "--range")
+        if isinstance(t, ast.SeqType):
+            return t  # the range bounds the sequence's length (DESIGN.md, "Data types")
         if not (ast.is_numeric(t) or isinstance(t, ast.GivenType)):
-            raise ConfigError(f"'{name}' is of type {t}: ranges bound numbers", "--range")
+            raise ConfigError(f"'{name}' is of type {t}: ranges bound numbers (and sequences' lengths)", "--range")
         return t
 
 
@@ -498,8 +500,9 @@ def check_range(name: str, t: ast.Type, r: Range, option: str = "--range") -> No
         raise ConfigError(f"'{name}={_num(r.low)}..{_num(r.high)}': LO must not exceed HI", option)
     if t != ast.REAL and (r.low.denominator != 1 or r.high.denominator != 1):
         raise ConfigError(f"'{name}' bounds {t} values: {_num(r.low)}..{_num(r.high)} are not integers", option)
-    if t == ast.NAT and r.low < 0:
-        raise ConfigError(f"'{name}' bounds naturals: LO must be at least 0, not {_num(r.low)}", option)
+    if (t == ast.NAT or isinstance(t, ast.SeqType)) and r.low < 0:
+        what = "a sequence's length" if isinstance(t, ast.SeqType) else "naturals"
+        raise ConfigError(f"'{name}' bounds {what}: LO must be at least 0, not {_num(r.low)}", option)
 
 
 # ----------------------------------------------------------------------------- the configuration

@@ -23,8 +23,6 @@ Report = Callable[[Pos, str], None]
 
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
-    "forall_expr": "quantified expressions ('forall')",
-    "exists_expr": "quantified expressions ('exists')",
     "lambda_expr": "lambda expressions",
     "definite_description": "definite descriptions ('the')",
     "set_range_expr": "sets ('{a to b}')",
@@ -76,6 +74,8 @@ class Scope:
     states: dict[str, str] = field(default_factory=dict)  # name or path -> node path
     result_type: ast.Type | None = None
     toolkit: bool = False  # the file imports a toolkit: its functions are unknown here
+    # The instance of a generic function for bindings of its `?X` (None: could not be built).
+    instantiate: Callable[[ast.Function, dict[str, ast.Type]], ast.Function | None] = lambda f, b: None
 
 
 class ExprChecker:
@@ -247,6 +247,11 @@ class ExprChecker:
                 self.error(node, f"type error: cannot compare {left.type} with {right.type}")
             return ast.Binary(BOOLEAN, p, op, left, right)
         if op in _ORDER:
+            if self.scope.result_type is not None and isinstance(left.type, ast.GivenType) and left.type == right.type:
+                # RoboTool gives `a > b` on a given type no type, and checks types in conditions,
+                # guards and actions, but not in a function's pre- and postconditions, where it is
+                # accepted; its CSP orders the type's values, which are integers (as tockbmc's are).
+                return ast.Binary(BOOLEAN, p, op, left, right)
             for side, e in ((left_node, left), (right_node, right)):
                 if not ast.is_numeric(e.type):
                     self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
@@ -307,11 +312,31 @@ class ExprChecker:
             for a in args_nodes:
                 self.expr(a)
             return ast.Literal(ERROR, p, 0)
-        args = self._arguments(node, name, args_nodes, function.parameters)
+        args = tuple(self.expr(a) for a in args_nodes)
+        if function.generic and len(args) == len(function.parameters):
+            bindings: dict[str, ast.Type] = {}
+            if not all(ast.unify(q.type, a.type, bindings) for q, a in zip(function.parameters, args, strict=True)):
+                self.error(node, f"type error: the arguments of '{name}' give one generic type two types: "
+                           f"{', '.join(str(a.type) for a in args)}")
+                return ast.Literal(ERROR, p, 0)
+            unbound = sorted(set().union(ast.type_vars(function.result), *(ast.type_vars(q.type) for q in function.parameters))
+                             - set(bindings))
+            if unbound:
+                self.error(node, f"unsupported: a call of '{name}' whose arguments do not fix its generic "
+                           f"type{'s' if len(unbound) > 1 else ''} {', '.join('?' + v for v in unbound)}")
+                return ast.Literal(ERROR, p, 0)
+            instance = self.scope.instantiate(function, bindings)
+            if instance is None:
+                return ast.Literal(ERROR, p, 0)
+            function = instance
+        args = self._check_arguments(node, name, args_nodes, args, function.parameters)
         return ast.Call(function.result, p, function, args)
 
     def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
-        args = tuple(self.expr(a) for a in args_nodes)
+        return self._check_arguments(node, name, args_nodes, tuple(self.expr(a) for a in args_nodes), params)
+
+    def _check_arguments(self, node: Tree, name: str, args_nodes: list, args: tuple[ast.Expr, ...],
+                         params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
         if len(args) != len(params):
             self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given")
             return args
@@ -439,6 +464,39 @@ class ExprChecker:
         for var, value in reversed(bound):
             body = ast.Let(body.type, p, var, value, body)
         return body
+
+    def _bind(self, decls: Tree, what: str, p: Pos) -> list[ast.Variable]:
+        """The variables `x : T, …` a quantifier or lambda declares, added to the scope (the caller
+        restores it)."""
+        bound = []
+        for d in decls.children:
+            name = str(d.children[0])
+            var = ast.Variable(name, self.resolve_type(d.children[1]), True,
+                               f"{self.scope.owner}::{what}@{p.line}:{p.column}", self.pos(d.children[0]), None, "bound")
+            self.scope.variables[name] = var
+            bound.append(var)
+        return bound
+
+    def _quantifier(self, node: Tree, p: Pos, kind: str) -> ast.Expr:
+        decls, *rest = node.children
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, kind, p)
+            condition = self.condition(rest[0]) if len(rest) == 2 else None
+            body = self.expect(rest[-1], self.expr(rest[-1]), BOOLEAN, f"the predicate of '{kind}'")
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        return ast.Quantifier(BOOLEAN, p, kind, tuple(bound), condition, body)
+
+    def _x_forall_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "forall")
+
+    def _x_exists_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "exists")
+
+    def _x_exists1_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        return self._quantifier(node, p, "exists1")
 
     def _x_since_expr(self, node: Tree, p: Pos) -> ast.Expr:
         name = qname_text(node.children[0])

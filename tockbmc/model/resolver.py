@@ -138,18 +138,22 @@ class Resolver:
 
     # ----------------------------------------------------------------- types
 
-    def type_of(self, scope: FileScope, node: Tree) -> ast.Type:
-        """The type a type expression denotes."""
+    def type_of(self, scope: FileScope, node: Tree, bindings: dict[str, ast.Type] | None = None) -> ast.Type:
+        """The type a type expression denotes; in a function's signature and body (`bindings` not
+        None) `?X` is the generic type X, or the type an instance binds it to."""
+        if node.data == "any_type" and bindings is not None:
+            var = str(node.children[0])
+            return bindings.get(var, ast.TypeVar(var))
         if node.data in UNSUPPORTED_TYPES:
             self.error(scope.path, node, f"unsupported: {UNSUPPORTED_TYPES[node.data]}")
             return ERROR
         if node.data in ("seq_type", "set_type"):
-            element = self.type_of(scope, node.children[0])
+            element = self.type_of(scope, node.children[0], bindings)
             if isinstance(element, ast.ErrorType):
                 return ERROR
             return ast.SeqType(element) if node.data == "seq_type" else ast.SetType(element)
         if node.data == "product_type":
-            parts = [self.type_of(scope, c) for c in node.children]
+            parts = [self.type_of(scope, c, bindings) for c in node.children]
             if any(isinstance(p, ast.ErrorType) for p in parts):
                 return ERROR
             return ast.ProductType(tuple(parts))
@@ -241,11 +245,12 @@ class Resolver:
             return names
         return []
 
-    def checker(self, scope: FileScope, expr_scope: Scope) -> ExprChecker:
+    def checker(self, scope: FileScope, expr_scope: Scope, bindings: dict[str, ast.Type] | None = None) -> ExprChecker:
         expr_scope.resolve_global = self.global_resolver(scope)
         expr_scope.global_names = self.global_names
         expr_scope.toolkit = scope.toolkit
-        return ExprChecker(expr_scope, self.report, lambda node: self.type_of(scope, node))
+        expr_scope.instantiate = self.instance
+        return ExprChecker(expr_scope, self.report, lambda node: self.type_of(scope, node, bindings))
 
     # ----------------------------------------------------------------- variables, events, operations
 
@@ -274,10 +279,11 @@ class Resolver:
             self.error(scope.path, tree, "unsupported: broadcast events ('_broadcast')")
         return ast.Event(str(toks[0]), etype, owner, pos_of(scope.path, toks[0]), broadcast)
 
-    def parameters(self, scope: FileScope, tree: Tree | None, owner: str) -> tuple[ast.Variable, ...]:
+    def parameters(self, scope: FileScope, tree: Tree | None, owner: str,
+                   bindings: dict[str, ast.Type] | None = None) -> tuple[ast.Variable, ...]:
         if tree is None:
             return ()
-        return tuple(ast.Variable(str(p.children[0]), self.type_of(scope, p.children[1]), True, owner,
+        return tuple(ast.Variable(str(p.children[0]), self.type_of(scope, p.children[1], bindings), True, owner,
                                   pos_of(scope.path, p.children[0]), None, "parameter")
                      for p in tree.children)
 
@@ -332,26 +338,35 @@ class Resolver:
     # ----------------------------------------------------------------- functions
 
     def function(self, decl: Declaration) -> ast.Function | None:
-        def build() -> ast.Function:
-            scope, tree = decl.file, decl.tree
-            params_tree = next((c for c in tree.children if isinstance(c, Tree) and c.data == "params"), None)
-            params = self.parameters(scope, params_tree, decl.qname)
-            type_tree = next(c for c in tree.children if isinstance(c, Tree) and c.data not in ("params", "precondition", "postcondition"))
-            result = self.type_of(scope, type_tree)
-            expr_scope = Scope(scope.path, decl.qname, variables={p.name: p for p in params}, result_type=result)
-            checker = self.checker(scope, expr_scope)
-            pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
-            post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
-            definition = None
-            for cond in post:
-                if isinstance(cond, ast.Binary) and cond.op == "==":
-                    if isinstance(cond.left, ast.ResultRef):
-                        definition = cond.right
-                    elif isinstance(cond.right, ast.ResultRef):
-                        definition = cond.left
-            return ast.Function(decl.qname, params, result, pre, post, definition, pos_of(scope.path, name_of(tree)))
+        return self.memo("function", decl.qname, lambda: self._function(decl, {}), decl.file.path, name_of(decl.tree))
 
-        return self.memo("function", decl.qname, build, decl.file.path, name_of(decl.tree))
+    def instance(self, f: ast.Function, bindings: dict[str, ast.Type]) -> ast.Function | None:
+        """The instance of generic function `f` with its types `?X` bound: its signature and
+        conditions checked again with them (once per binding)."""
+        decl = self.table.declarations[f.qname]
+        suffix = "[" + ", ".join(f"?{k}={bindings[k]}" for k in sorted(bindings)) + "]"
+        return self.memo("function", f.qname + suffix, lambda: self._function(decl, bindings, suffix),
+                         decl.file.path, name_of(decl.tree))
+
+    def _function(self, decl: Declaration, bindings: dict[str, ast.Type], suffix: str = "") -> ast.Function:
+        scope, tree = decl.file, decl.tree
+        qname = decl.qname + suffix
+        params_tree = next((c for c in tree.children if isinstance(c, Tree) and c.data == "params"), None)
+        params = self.parameters(scope, params_tree, qname, bindings)
+        type_tree = next(c for c in tree.children if isinstance(c, Tree) and c.data not in ("params", "precondition", "postcondition"))
+        result = self.type_of(scope, type_tree, bindings)
+        expr_scope = Scope(scope.path, qname, variables={p.name: p for p in params}, result_type=result)
+        checker = self.checker(scope, expr_scope, bindings)
+        pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
+        post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
+        definition = None
+        for cond in post:
+            if isinstance(cond, ast.Binary) and cond.op == "==":
+                if isinstance(cond.left, ast.ResultRef):
+                    definition = cond.right
+                elif isinstance(cond.right, ast.ResultRef):
+                    definition = cond.left
+        return ast.Function(qname, params, result, pre, post, definition, pos_of(scope.path, name_of(tree)))
 
     # ----------------------------------------------------------------- machines and operations
 
