@@ -24,7 +24,7 @@ from tockbmc.bmc.witness import decode, initial_choices, scalar_text
 from tockbmc.check import DEFAULT_BOUND, own_z3_context, replay_trace
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
-from tockbmc.encodings.terms import constants
+from tockbmc.encodings.terms import constants, quantified
 from tockbmc.encodings.values import leaves
 from tockbmc.model import ast
 from tockbmc.model.config import ConfigError, Configuration, Names, Setup, configure
@@ -140,6 +140,9 @@ class _Explore:
         for goal in q.goals:
             build = self.system(q, goal, setup, network)
             probe = build([])
+            if quantified(probe.init()) or quantified(probe.trans()):
+                raise Unsupported(self.a.pos, "explore projects runs onto the parameters without quantifiers; this "
+                                  "model's formulas quantify (a sequence's or set's elements, forall/exists)")
             if not goal.applies(probe):  # unreachable whatever the data (abstraction)
                 continue
             named, facts = _parameters(probe, self.plan.ranges)
