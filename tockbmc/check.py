@@ -29,6 +29,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.deadlock import refuses_everything
 from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
@@ -113,7 +114,7 @@ class _Check:
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
-            network = network_of(q.element, dict(q.defined))
+            network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
             if q.determinism:
@@ -378,7 +379,7 @@ def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Cal
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
 
     try:
-        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined)))
+        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed))
     except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
     return "yes"
@@ -400,6 +401,8 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
                 return interp.terminated(config)  # type: ignore[arg-type]
             if goal.target is stuck:
                 return not steps and not interp.terminated(config)  # type: ignore[arg-type]
+            if goal.target is refuses_everything:  # untimed deadlock: termination included
+                return not steps
             if goal.target is timelocked or a.kind == "timelock-free":
                 return not any(s.kind in ("internal", "tock") for s in steps)
             if a.kind == "reachable":

@@ -449,7 +449,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         consts = python_settings(setup.constants)
 
         def interpreter(lazy: bool) -> Interpreter:
-            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy)
+            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy,
+                               timed=q.timed)
 
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
@@ -605,6 +606,20 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
+    if kind == "deadlock-free" and not q.timed:  # FDR's :[deadlock free]: a refusal of everything, or divergence
+        hit = search.run(lambda key, succ: "deadlock" if not succ else None)
+        if hit is not None:
+            why = (f"{name} has terminated, and so refuses every event: untimed, FDR's :[deadlock free] counts "
+                   "termination as a deadlock" if terminated(hit[0]) else
+                   f"{name} has not terminated and refuses every event")
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
+        loop = search.nearest_cycle(lambda s: s.kind == "internal")
+        if loop is not None:
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                          f"{name} can repeat internal steps for ever (divergence)", search.trace(loop))
+        if negated:
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
+        return done("no deadlock")
     if kind == "deadlock-free":  # time only for ever, or divergence; a refusal of everything is a timelock
         search.run(lambda key, succ: None)
         loop = search.time_only(lambda k: not terminated(k))

@@ -73,6 +73,7 @@ class Query:
     inclusion: Proc | None = None  # a specification every trace of which must be the element's
     determinism: bool = False  # searched before the goals: two runs, one trace, an event offered and refused
     spec_name: str = ""
+    timed: bool = True  # False: RoboTool's untimed semantics (no tock; `model.untimed` rewrites the element)
 
 
 def says(text: str) -> Describe:

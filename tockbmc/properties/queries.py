@@ -6,6 +6,7 @@ Assertion forms that are not supported yet raise `Unsupported` with the reason.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import z3
 
@@ -15,7 +16,7 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.model.errors import Unsupported
-from tockbmc.properties.deadlock import deadlock_goals, divergence_goals
+from tockbmc.properties.deadlock import deadlock_goals, divergence_goals, untimed_deadlock_goals
 from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
@@ -55,12 +56,19 @@ def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
 
 def query(project: ast.Project, a: ast.Assertion) -> Query:
     """The query for assertion `a`; raises `Unsupported` for forms not checked yet."""
-    if a.timing == "untimed":
-        raise Unsupported(None, "untimed assertions need RoboTool's untimed semantics, which is not built yet")
+    q = _query(project, a)
+    return replace(q, timed=False) if a.timing == "untimed" else q
+
+
+def _query(project: ast.Project, a: ast.Assertion) -> Query:
+    timed = a.timing != "untimed"
+    if not timed and a.kind == "timelock-free":
+        raise Unsupported(None, "timelock-freedom is about tock, which RoboTool's untimed semantics does not have: "
+                                "RoboTool generates it in the timed semantics only")
     if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
         raise Unsupported(None, f"the {a.semantic_model} model is not supported")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
-    sem = Semantics(ev)
+    sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
     subject, subject_is_process = (a.other, a.other_is_process) if a.kind == "reachable" else (a.subject,
@@ -90,6 +98,8 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
 
 
 def _goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
+    if a.kind == "deadlock-free" and a.timing == "untimed":
+        return untimed_deadlock_goals(name, a.negated)
     if a.kind == "terminates":
         if a.negated:
             return (Goal.violation(terminated, says(f"{name} has terminated")),)
@@ -232,7 +242,8 @@ def _literals(project: ast.Project) -> dict[str, EnumValue]:
         if isinstance(t, ast.EnumType):
             for i, lit in enumerate(t.literals):
                 value = EnumValue(t.name, i, f"{t.name}::{lit}")
-                for key in (f"{t.name}::{lit}", f"{t.qname}::{lit}", f"{t.name}_{lit}"):
+                mangled = f"{t.qname.replace('::', '_')}_{lit}"  # RoboTool's `pkg_E_L`
+                for key in (f"{t.name}::{lit}", f"{t.qname}::{lit}", f"{t.name}_{lit}", mangled):
                     out[key] = value
     return out
 
