@@ -396,7 +396,11 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     from tockbmc.explicit.replay import replay
 
     def follow(interp: Interpreter) -> None:
+        refusal = _refusal_check(q, a, interp, trace) if goal.failures else None
+
         def final(config: object, steps: list) -> bool:
+            if refusal is not None:
+                return refusal(config)
             if goal.target is terminated:
                 return interp.terminated(config)  # type: ignore[arg-type]
             if goal.target is stuck:
@@ -412,3 +416,37 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
         replay(interp, trace, choices, q.context, final)
 
     return _replayed(q, ranges, consts, follow)
+
+
+def _refusal_check(q: Query, a: ast.Assertion, interp: Interpreter, trace: tuple) -> Callable[[object], bool]:
+    """Where a failures-refinement counterexample ends: the specification's monitor is dead or the
+    element has terminated (a traces violation), or the configuration is stable and refuses, for
+    each stable state of the specification, an event that state accepts (`ConcreteRefusals`); a
+    divergence (a lasso) ends where internal steps go on, in the failures-divergences model."""
+    from tockbmc.explicit.engine import ConcreteRefusals
+    from tockbmc.properties.spec import Monitor
+
+    context = q.context
+    assert context is not None and context.spec is not None
+    monitor = Monitor(context.sem, context.spec, [])
+    refusals = ConcreteRefusals(interp, q, monitor)
+    state = monitor.initial
+    for s in trace:
+        if s.kind in ("event", "tock") and s.note not in ("before the model starts", "after the model terminates"):
+            state = monitor.after(state, ("tock",) if s.kind == "tock" else
+                                  (*s.channel, *(refusals.literals.get(v, v) if isinstance(v, str) else v
+                                                 for v in s.values)))
+
+    def final(config: object) -> bool:
+        if state == Monitor.DEAD or interp.terminated(config):  # type: ignore[arg-type]
+            return True
+        steps = []
+        for st in interp.steps(config):  # type: ignore[arg-type]
+            status = "visible" if st.event is None else context.status(st.event.channel, len(st.event.values))
+            if st.kind == "internal" or status == "hidden":
+                return a.semantic_model == "failures divergences"
+            if status != "blocked":
+                steps.append(st)
+        return refusals.failure(state, steps) is not None
+
+    return final

@@ -30,11 +30,12 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.failures import FAILURES_MODELS, Offer, acceptances, divergent_state, offer_text
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import query
-from tockbmc.properties.spec import Channel, EnumValue, Monitor, TooLarge
+from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
 
 DEFAULT_MAX_STATES = 1_000_000
 # The assertions searched lazily: each decided by a condition on one node at a time.
@@ -455,7 +456,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
         if q.inclusion is None or q.goals:  # equals: this direction first
-            search = Search(interpreter(a.kind in LAZY_KINDS), q, bound, max_states, deadline, progress)
+            lazy = a.kind in LAZY_KINDS and a.semantic_model not in FAILURES_MODELS  # refusals read every value
+            search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
             decided = _decide(a, q, search, result)
             if q.inclusion is None or decided.verdict != Verdict.HOLDS:
                 return decided
@@ -560,7 +562,30 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 rests[state] = after_termination(context.sem, monitor, context.impl.tail, state)
             return "after" if rests[state] is not None else None
 
-        hit = search.run(after_end)
+        refusals = ConcreteRefusals(interp, q, monitor) if a.semantic_model in FAILURES_MODELS else None
+        if refusals is not None and a.semantic_model == "failures divergences":
+            assert context.spec is not None
+            whole = Monitor(context.sem, context.spec, refusals.channels)  # every reachable state, to look for divergence
+            whole.table()
+            if divergent_state(whole, context.sem) is not None:
+                raise Unsupported(None, f"{a.other} can diverge; refinement in the failures-divergences model "
+                                        "against a divergent specification is not supported")
+        refused: dict[Hashable, list[str]] = {}
+
+        def found(key: Hashable, succ: list) -> str | None:
+            why = after_end(key, succ)
+            if why is not None or refusals is None:
+                return why
+            config, state = cast("tuple[Config, int | None]", key)
+            if state is None or state == Monitor.DEAD or internal(succ) or interp.terminated(config):
+                return None
+            shown = refusals.failure(state, [e.step for e in succ])
+            if shown is None:
+                return None
+            refused[key] = shown
+            return "refusal"
+
+        hit = search.run(found)
         spec = a.other
         if hit is not None:
             verdict = Verdict.HOLDS if negated else Verdict.VIOLATED
@@ -573,7 +598,18 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                                          "after the model terminates", {}, {}) for j, e in enumerate(rest))
                 return result(verdict, f"after {name} terminates, the process goes on with {' '.join(rest)}, which "
                                        f"{spec} cannot do", head + trace)
+            if hit[1] == "refusal":
+                offers = sorted({_label(e.step) for e in search.steps(hit[0]) if e.step.kind != "internal"})
+                return result(verdict, f"{name} is stable and offers only {', '.join(offers) or 'nothing'}; every "
+                                       f"stable state of {spec} after this trace accepts an event the model refuses "
+                                       f"({'; '.join(sorted(set(refused[hit[0]])))})", head + trace)
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
+        if refusals is not None and a.semantic_model == "failures divergences":
+            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            if loop is not None:
+                return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                              f"{name} can repeat internal steps for ever (divergence), which {spec} cannot",
+                              search.trace(loop))
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"every trace is a trace of {spec}; {scope()}")
         return done(f"every trace is a trace of {spec}")
@@ -702,6 +738,94 @@ def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) ->
         channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
         out += [((channel, d), int(e.type is not None)) for d in ("in", "out")]
     return list(dict.fromkeys(out))
+
+
+def element_types(element: ast.StateMachine | ast.Controller | ast.Module) -> dict[tuple, tuple[ast.Type, ...]]:
+    """The value types of each channel of `element_alphabet`."""
+    name = element.name
+    machines: list[ast.StateMachine] = []
+    events: list[tuple[str, ast.Event]] = []
+    if isinstance(element, ast.StateMachine):
+        machines = [element]
+    elif isinstance(element, ast.Controller):
+        machines = [m.machine for m in element.machines]
+        events += [(name, e) for e in element.events]
+    else:
+        for ci in element.controllers:
+            machines += [m.machine for m in ci.controller.machines]
+            events += [(ci.controller.name, e) for e in ci.controller.events]
+        if element.platform is not None:
+            events += [(name, e) for e in element.platform.events]
+    out: dict[tuple, tuple[ast.Type, ...]] = {(f"{name}::terminate",): ()}
+    for m in machines:
+        events += [(m.name, e) for e in m.events]
+        for op in m.operations:
+            out.setdefault(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),),
+                           tuple(p.type for p in op.parameters))
+    for owner, e in events:
+        channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
+        for d in ("in", "out"):
+            out.setdefault((channel, d), () if e.type is None else (e.type,))
+    return out
+
+
+REFUSAL_CHOICES = 100_000  # values of one refused class tried before the check is given up
+
+
+class ConcreteRefusals:
+    """The failures check on one concrete configuration (docs/semantics.md §7.12): stable, not
+    terminated, and every stable term of the specification in the monitor state accepts some event
+    (within the types and ranges) that the configuration does not offer."""
+
+    def __init__(self, interp: Interpreter, q: Query, monitor: Monitor):
+        assert q.context is not None
+        self.interp, self.monitor, self.sem = interp, monitor, q.context.sem
+        self.sem.alphabet = element_alphabet(q.element)
+        tock = q.timed and q.context.status(("tock",), 0) != "hidden"
+        self.channels = [Channel(p, a) for p, a in self.sem.alphabet] + ([Channel(("tock",), 0)] if tock else [])
+        self.types = element_types(q.element)
+        self.literals = {v.text: v for v in self.sem.evaluator.literals.values()}
+        self.accept: dict[int, list[tuple[Offer, ...]]] = {}
+
+    def event(self, s: Step) -> tuple:
+        if s.kind == "tock":
+            return ("tock",)
+        assert s.event is not None
+        return (*s.event.channel, *(self.literals.get(v, v) if isinstance(v, str) else v for v in s.event.values))
+
+    def refused(self, offered: set[tuple], state: int, o: Offer) -> bool:
+        if o.channel is None:
+            return True
+        ch = self.channels[o.channel]
+        if ch.prefix == ("tock",):
+            return ("tock",) not in offered
+        named = self.monitor.fields(state, ch)
+        fields = []
+        for j, t in enumerate(self.types.get(ch.prefix, ())):
+            values = [self.literals.get(v, v) if isinstance(v, str) else v
+                      for v in self.interp.domain(t, (ch.prefix[0],))]
+            x = o.values[j]
+            if x is OTHER:
+                fields.append([v for v in values if not any(_same(v, y) for y in named[j])])
+            else:
+                fields.append([v for v in values if _same(v, x)])
+        if math.prod(len(f) for f in fields) > REFUSAL_CHOICES:
+            raise Unsupported(None, f"too many values on {ch.prefix[0]} to compare refusals")
+        return any((*ch.prefix, *combo) not in offered for combo in itertools.product(*fields))
+
+    def failure(self, state: int, steps: list[Step]) -> list[str] | None:
+        """The events refused (one per stable term of the specification), if the refusal of a stable
+        configuration with these visible steps is not one the specification can make; else None."""
+        if state not in self.accept:
+            self.accept[state] = acceptances(self.monitor, self.sem, state, self.channels)
+        offered = {self.event(s) for s in steps}
+        shown = []
+        for acc in self.accept[state]:
+            o = next((o for o in acc if self.refused(offered, state, o)), None)
+            if o is None:
+                return None
+            shown.append(offer_text(self.channels, o))
+        return shown
 
 
 def _label(step: Step) -> str:

@@ -46,6 +46,7 @@ class Goal:
     # Why the target's unreachability at every depth would not show the claim (so no proof is
     # attempted and only the bounded search counts), or None when it would.
     unprovable: Callable[[TransitionSystem], str | None] | None = None
+    failures: bool = False  # a refusal the specification cannot make is among the targets (the replay checks it)
 
     @staticmethod
     def violation(target: Target, describe: Describe, **more: object) -> Goal:

@@ -16,7 +16,16 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.model.errors import Unsupported
-from tockbmc.properties.deadlock import deadlock_goals, divergence_goals, untimed_deadlock_goals
+from tockbmc.properties.deadlock import (
+    _describe_divergence,
+    deadlock_goals,
+    divergence_goals,
+    diverges,
+    unbounded_loops,
+    untimed_deadlock_goals,
+    watch_loops,
+)
+from tockbmc.properties.failures import FAILURES_MODELS, Refusals
 from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
@@ -65,8 +74,10 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if not timed and a.kind == "timelock-free":
         raise Unsupported(None, "timelock-freedom is about tock, which RoboTool's untimed semantics does not have: "
                                 "RoboTool generates it in the timed semantics only")
-    if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
-        raise Unsupported(None, f"the {a.semantic_model} model is not supported")
+    if a.semantic_model == "tick-tock" and a.kind in ("refines", "equals"):
+        raise Unsupported(None, "the tick-tock model is not supported: RoboTool checks it as traces refinement "
+                                "between model-shifted processes (MS::TT(Q) [T= MS::TT(P)) that record refusals "
+                                "before each tock, which tockbmc does not encode")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
@@ -156,8 +167,14 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     spec_name = a.other if impl is left else a.subject
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
+    failures = a.semantic_model in FAILURES_MODELS
+    if failures and (impl is right or a.kind == "equals"):
+        raise Unsupported(None, f"refinement in the {a.semantic_model} model with the model on the right (the "
+                                "specification refining the model, or the second half of 'equals') is not built: it "
+                                "needs, after each trace of the specification, a stable state of the model that "
+                                "refuses no more than the specification")
     if impl is left:
-        goals = (_refinement_goal(a, name),)
+        goals = _failures_goals(a, name) if failures else (_refinement_goal(a, name),)
     inclusion = a.kind == "equals" or impl is right
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
@@ -215,6 +232,50 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
     if a.negated:
         return Goal.witness(violated, describe, sought=f"a trace {a.other} cannot do", claim=claim)
     return Goal.violation(violated, describe, claim=claim)
+
+
+def _failures_goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
+    """`M refines Q in the failures [divergences] model`, M on the left (docs/semantics.md §7.12):
+    traces refinement, then no stable refusal of M that Q cannot make after the same trace, then (in
+    the failures-divergences model, Q being divergence-free) no divergence of M."""
+    spec = a.other or ""
+    divergences = a.semantic_model == "failures divergences"
+    made: dict[int, tuple[MonitorExtension, Refusals]] = {}
+
+    def refusals(system: TransitionSystem) -> Refusals:
+        ext = system.extension
+        assert isinstance(ext, MonitorExtension)
+        if id(ext) not in made:
+            made[id(ext)] = (ext, Refusals(ext, divergences, spec))
+        return made[id(ext)][1]
+
+    def refused(system: TransitionSystem) -> z3.BoolRef:
+        return refusals(system).violated(system)
+
+    def describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        return refusals(unroller.system).describe(unroller, model, k, spec)
+
+    traces = _refinement_goal(a, name)
+    claim = f"every stable refusal is one {spec} can make after the same trace"
+    if a.negated:
+        def either(system: TransitionSystem) -> z3.BoolRef:
+            found = [traces.target(system), refused(system)]
+            return z3.Or(found + [diverges(system)] if divergences else found)
+
+        def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+            if true_at(unroller, model, traces.target(unroller.system), k):
+                return traces.describe(unroller, model, k)
+            if true_at(unroller, model, refused(unroller.system), k):
+                return describe(unroller, model, k)
+            return _describe_divergence(unroller, model, k)
+
+        more: dict[str, object] = dict(prepare=watch_loops, unprovable=unbounded_loops) if divergences else {}
+        return (Goal.witness(either, which, sought=f"a trace, refusal or divergence {spec} does not allow",
+                             claim=claim, failures=True, **more),)
+    goals: tuple[Goal, ...] = (traces, Goal.violation(refused, describe, claim=claim, failures=True))
+    if divergences:
+        goals += divergence_goals(name, False)
+    return goals
 
 
 def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
