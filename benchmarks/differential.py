@@ -1,10 +1,11 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
-[--specs]
+[--specs] [--untimed]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` four
-refinements of specifications that tell values of its events apart), checked with
+refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
+assertions and five refinements in the failures models), checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
 `--timeout` seconds per assertion.  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that
@@ -27,9 +28,9 @@ from differential_cases import compare, random_case  # noqa: E402
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool]) -> tuple[int, list | None]:
-    seed, timeout, controllers, specs = job  # past the timeout an outcome is unknown, so not comparable
-    rct, assertions = random_case(seed, controllers, specs)
+def run(job: tuple[int, float, float, bool, bool]) -> tuple[int, list | None]:
+    seed, timeout, controllers, specs, untimed = job  # past the timeout an outcome is unknown, so not comparable
+    rct, assertions = random_case(seed, controllers, specs, untimed)
     try:
         return seed, compare(rct, assertions, timeout=timeout)
     except tockbmc.ModelError:
@@ -47,10 +48,12 @@ def main() -> None:
                              "about five machines)")
     parser.add_argument("--specs", action="store_true",
                         help="also check refinements of specifications that tell values apart")
+    parser.add_argument("--untimed", action="store_true",
+                        help="also check the untimed forms and refinements in the failures models")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
-    seeds = [(seed, args.timeout, args.controllers, args.specs) for seed in range(args.seed, args.seed + args.cases)]
+    seeds = [(seed, args.timeout, args.controllers, args.specs, args.untimed) for seed in range(args.seed, args.seed + args.cases)]
     with multiprocessing.Pool(args.jobs) as pool:
         done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)
         for seed, outcomes in done:

@@ -110,9 +110,9 @@ class Search:
                 raise Unsupported(None, "the specification has too many states") from None
         self.literals = _literals(q)
         self._after: dict[tuple, int] = {}
-        self._reset()
+        self.reset()
 
-    def _reset(self) -> None:
+    def reset(self) -> None:
         self.transitions = 0
         self.complete = True  # every configuration within the bound was expanded
         self.parent: dict[Hashable, tuple[Hashable, Edge] | None] = {}
@@ -227,7 +227,7 @@ class Search:
                 return self._run(found)
             except _Strict as exc:
                 self.interp.strict.add(exc.channel)
-                self._reset()
+                self.reset()
 
     def _run(self, found: Callable[[Hashable, list[Edge]], str | None]) -> tuple[Hashable, str] | None:
         first = None
@@ -587,6 +587,14 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
 
         hit = search.run(found)
         spec = a.other
+        if hit is not None and negated and refusals is not None and a.semantic_model == "failures divergences":
+            found_at = search.depth[hit[0]]
+            search.reset()  # explore everything: a divergence nearer the start is the shorter witness
+            search.run(lambda key, succ: None)
+            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            if loop is not None and search.depth[loop] < found_at:
+                return result(Verdict.HOLDS, f"{name} can repeat internal steps for ever (divergence), which "
+                                             f"{spec} cannot", search.trace(loop))
         if hit is not None:
             verdict = Verdict.HOLDS if negated else Verdict.VIOLATED
             trace = search.trace(hit[0])

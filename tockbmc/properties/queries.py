@@ -256,23 +256,24 @@ def _failures_goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
         return refusals(unroller.system).describe(unroller, model, k, spec)
 
     traces = _refinement_goal(a, name)
-    claim = f"every stable refusal is one {spec} can make after the same trace"
+    claim = f"every trace is a trace of {spec}, and every stable refusal one {spec} can make after it"
+
+    def either(system: TransitionSystem) -> z3.BoolRef:  # searched together: the shortest of either kind first
+        found = [traces.target(system), refused(system)]
+        return z3.Or(found + [diverges(system)] if divergences and a.negated else found)
+
+    def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        if true_at(unroller, model, traces.target(unroller.system), k):
+            return traces.describe(unroller, model, k)
+        if true_at(unroller, model, refused(unroller.system), k):
+            return describe(unroller, model, k)
+        return _describe_divergence(unroller, model, k)
+
     if a.negated:
-        def either(system: TransitionSystem) -> z3.BoolRef:
-            found = [traces.target(system), refused(system)]
-            return z3.Or(found + [diverges(system)] if divergences else found)
-
-        def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
-            if true_at(unroller, model, traces.target(unroller.system), k):
-                return traces.describe(unroller, model, k)
-            if true_at(unroller, model, refused(unroller.system), k):
-                return describe(unroller, model, k)
-            return _describe_divergence(unroller, model, k)
-
         more: dict[str, object] = dict(prepare=watch_loops, unprovable=unbounded_loops) if divergences else {}
         return (Goal.witness(either, which, sought=f"a trace, refusal or divergence {spec} does not allow",
                              claim=claim, failures=True, **more),)
-    goals: tuple[Goal, ...] = (traces, Goal.violation(refused, describe, claim=claim, failures=True))
+    goals: tuple[Goal, ...] = (Goal.violation(either, which, claim=claim, failures=True),)
     if divergences:
         goals += divergence_goals(name, False)
     return goals
