@@ -31,6 +31,7 @@ from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.deadlock import refuses_everything
 from tockbmc.properties.determinism import locally_nondeterministic
+from tockbmc.properties.failures import FAILURES_MODELS
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
@@ -303,8 +304,9 @@ class _Check:
         def make(follower: Callable[[TransitionSystem], TraceFollower]) -> TransitionSystem:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
+        failures = self.a.semantic_model if self.a.semantic_model in FAILURES_MODELS else None
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
-                       progress=self.progress)
+                       progress=self.progress, refusals=failures)
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
                 return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace)

@@ -30,7 +30,16 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
-from tockbmc.properties.failures import FAILURES_MODELS, Offer, acceptances, divergent_state, offer_text
+from tockbmc.properties.failures import (
+    FAILURES_MODELS,
+    Offer,
+    SpecRefusal,
+    acceptance_text,
+    acceptances,
+    divergent_state,
+    offer_text,
+    spec_refusals,
+)
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
@@ -493,11 +502,87 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
             verdict = Verdict.HOLDS if a.negated else Verdict.VIOLATED
             return result(verdict, f"{q.spec_name} has this trace{' and then terminates' if t.ticks else ''}, "
                                    f"and {q.element.name} cannot perform it", shown)
+    refusals = ""
+    if a.semantic_model in FAILURES_MODELS:
+        decided = _refusals_included(a, q, search, result, [t.events for t in traces])
+        if decided is not None:
+            return decided
+        refusals = ", and each stable refusal of it after them one of the model's"
     if a.negated:
         return result(Verdict.UNKNOWN, f"every trace of {q.spec_name} with up to {length} events is one of "
-                                 f"{q.element.name}'s; a bounded search alone gives no verdict")
+                                 f"{q.element.name}'s{refusals}; a bounded search alone gives no verdict")
     return result(Verdict.HOLDS, f"every trace of {q.spec_name} with up to {length} events is a trace of "
-                           f"{q.element.name} ({len(traces)} traces listed)")
+                           f"{q.element.name}{refusals} ({len(traces)} traces listed)")
+
+
+def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],
+                       traces: list[tuple[tuple, ...]]) -> Result | None:
+    """In the failures models, the specification on the right: after each listed trace, each stable
+    refusal of the specification is made by some stable configuration of the element, short of
+    termination, offering nothing outside the acceptance (docs/semantics.md §7.12); None if so."""
+    assert q.context is not None and q.inclusion is not None
+    sem = q.context.sem
+    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, []))
+    mon = Monitor(sem, q.inclusion, checker.channels)
+    checker.monitor = mon
+    if a.semantic_model == "failures divergences":
+        mon.table()
+        if divergent_state(mon, sem) is not None:
+            raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
+                                    "against a divergent specification is not supported")
+    wanted = spec_refusals(mon, sem, checker.channels, traces)
+    if len(wanted) > 256:
+        return result(Verdict.UNKNOWN, f"{q.spec_name} has more than 256 stable refusals after its listed traces, "
+                                       "which gives no verdict")
+    for r in wanted:
+        if _refuses_as(search, checker, r):
+            continue
+        shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
+                                f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(r.events))
+        what = (f"{'after this trace' if r.events else 'at the start'} {q.spec_name} can be stable accepting "
+                f"{acceptance_text(checker.channels, r.acceptance)}, and {q.element.name}")
+        if not search.complete:
+            return result(Verdict.UNKNOWN, f"{what} was not found refusing everything else in a stable configuration "
+                                           f"within {search.bound} visible steps", shown)
+        if a.semantic_model == "failures divergences" and search.nearest_cycle(lambda s: s.kind == "internal"):
+            return result(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest, but it can diverge, "
+                                           "which in the failures-divergences model allows every refusal", shown)
+        return result(Verdict.HOLDS if a.negated else Verdict.VIOLATED,
+                      f"{what} has no stable configuration, short of termination, refusing everything else "
+                      "(every reachable configuration was explored)", shown)
+    return None
+
+
+def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bool:
+    """Whether the element can perform r's events and then be stable, short of termination, offering
+    only events of r's acceptance."""
+    names = [_event_text(e) for e in r.events]
+    start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
+    seen = set(start)
+    todo = deque(start)
+    while todo:
+        node_key, i = todo.popleft()
+        config = cast("tuple[Config, None]", node_key)[0]
+        steps = search.steps((config, None))
+        if i == len(names) and not search.interp.terminated(config) and not any(
+                e.step.kind == "internal" for e in steps) and all(
+                checker.within(r, e.step) for e in steps):
+            return True
+        for step, nxt, _ in steps:
+            node: tuple[Hashable, int]
+            if step.kind == "internal":
+                node = (nxt, i)
+            elif i < len(names) and (step.kind == "tock" and names[i] == "tock" or
+                                     step.event is not None and step.event.name == names[i]):
+                node = (nxt, i + 1)
+            else:
+                continue
+            if node not in seen:
+                if len(seen) >= search.max_states:
+                    raise MemoryError
+                seen.add(node)
+                todo.append(node)
+    return False
 
 
 def _performs(search: Search, t: SpecTrace) -> bool:
@@ -568,7 +653,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             whole = Monitor(context.sem, context.spec, refusals.channels)  # every reachable state, to look for divergence
             whole.table()
             if divergent_state(whole, context.sem) is not None:
-                raise Unsupported(None, f"{a.other} can diverge; refinement in the failures-divergences model "
+                raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
                                         "against a divergent specification is not supported")
         refused: dict[Hashable, list[str]] = {}
 
@@ -586,7 +671,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             return "refusal"
 
         hit = search.run(found)
-        spec = a.other
+        spec = q.spec_name
         if hit is not None and negated and refusals is not None and a.semantic_model == "failures divergences":
             found_at = search.depth[hit[0]]
             search.reset()  # explore everything: a divergence nearer the start is the shorter witness
@@ -820,6 +905,21 @@ class ConcreteRefusals:
         if math.prod(len(f) for f in fields) > REFUSAL_CHOICES:
             raise Unsupported(None, f"too many values on {ch.prefix[0]} to compare refusals")
         return any((*ch.prefix, *combo) not in offered for combo in itertools.product(*fields))
+
+    def within(self, r: SpecRefusal, s: Step) -> bool:
+        """Whether a visible step's event is in one of the classes of r's acceptance."""
+        e = self.event(s)
+        for o in r.acceptance:
+            if o.channel is None:
+                continue
+            ch = self.channels[o.channel]
+            if e[: len(ch.prefix)] != ch.prefix or len(e) != len(ch.prefix) + len(o.values):
+                continue
+            named = self.monitor.fields(r.state, ch)
+            if all((not any(_same(v, y) for y in named[j])) if x is OTHER else _same(v, x)
+                   for j, (v, x) in enumerate(zip(e[len(ch.prefix):], o.values, strict=True))):
+                return True
+        return False
 
     def failure(self, state: int, steps: list[Step]) -> list[str] | None:
         """The events refused (one per stable term of the specification), if the refusal of a stable

@@ -194,3 +194,70 @@ class Refusals:
                     "trace, so it cannot refuse what the model refuses")
         return (f"{system.name} is stable and offers only {shown}; every stable state of {spec_name} after this trace "
                 f"accepts an event the model refuses ({'; '.join(sorted(set(refused)))})")
+
+
+# ------------------------------------------------------------------ the specification refining the model
+
+@dataclass(frozen=True)
+class SpecRefusal:
+    """After `events`, a stable state of the specification (monitor state `state`) accepts only
+    `acceptance`: the model must have a stable configuration after the same events, short of
+    termination, that offers nothing outside it."""
+
+    events: tuple[tuple, ...]
+    state: int
+    acceptance: tuple[Offer, ...]
+
+
+def spec_refusals(mon: Monitor, sem: Semantics, channels: list[Channel], traces: list[tuple[tuple, ...]]
+                  ) -> list[SpecRefusal]:
+    """The stable refusals of the specification after every prefix of `traces` (each once)."""
+    out: dict[tuple, SpecRefusal] = {}
+    for t in traces:
+        state = mon.initial
+        for n in range(len(t) + 1):
+            if n:
+                state = mon.after(state, t[n - 1])
+            if state == Monitor.DEAD:
+                break
+            for acc in acceptances(mon, sem, state, channels):
+                key = (t[:n], frozenset(acc))
+                if key not in out:
+                    out[key] = SpecRefusal(t[:n], state, acc)
+    return list(out.values())
+
+
+def accepted(o: Offer, channels: list[Channel], values: list, named: list[list[object]]) -> z3.BoolRef:
+    """A move's values are in the class `o` of its channel."""
+    return z3.And([field_is(v, x, named[j]) for j, (v, x) in enumerate(zip(values, o.values, strict=True))])
+
+
+def offers_within(system: TransitionSystem, mon: Monitor, r: SpecRefusal, channels: list[Channel],
+                  channel_of: dict[int, int]) -> z3.BoolRef:
+    """Stable, not terminated, and every event the element offers is one the acceptance holds."""
+    cs: list[z3.BoolRef] = [z3.Not(system.internal_enabled()), z3.Not(system.halted())]
+    for m in system.moves:
+        c = channel_of.get(m.index)
+        if c is None:
+            continue
+        classes = [o for o in r.acceptance if o.channel == c]
+        if channels[c].prefix == TOCK:
+            if not classes:
+                cs.append(z3.Not(system.tock_enabled()))
+            continue
+        eff = system.effect(m)
+        system.enabled(m)  # registers the axioms of the functions its values call
+        values = [v for v, _t in system.label_values(m)]
+        named = mon.fields(r.state, channels[c])
+        try:
+            member = z3.Or([accepted(o, channels, values, named) for o in classes] or [z3.BoolVal(False)])
+        except ValueError as exc:
+            raise Unsupported(None, str(exc)) from None
+        body = z3.Implies(z3.And(eff.enabled + eff.choose), member)
+        cs.append(z3.ForAll(eff.chosen, body) if eff.chosen else body)
+    return _without_quantifier(z3.And(cs))
+
+
+def acceptance_text(channels: list[Channel], acc: tuple[Offer, ...]) -> str:
+    shown = [offer_text(channels, o) for o in acc]
+    return "only {" + ", ".join(shown) + "}" if shown else "nothing"

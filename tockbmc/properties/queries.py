@@ -168,13 +168,9 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
     failures = a.semantic_model in FAILURES_MODELS
-    if failures and (impl is right or a.kind == "equals"):
-        raise Unsupported(None, f"refinement in the {a.semantic_model} model with the model on the right (the "
-                                "specification refining the model, or the second half of 'equals') is not built: it "
-                                "needs, after each trace of the specification, a stable state of the model that "
-                                "refuses no more than the specification")
-    if impl is left:
-        goals = _failures_goals(a, name) if failures else (_refinement_goal(a, name),)
+    if impl is left or a.kind == "equals":  # `Q equals M` is M refines Q too
+        spec_text = spec_name or ""
+        goals = _failures_goals(a, name, spec_text) if failures else (_refinement_goal(a, name, spec_text),)
     inclusion = a.kind == "equals" or impl is right
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
@@ -207,7 +203,7 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
     return Query(assertion=a, element=element, goals=(goal,), context=context, settings=settings, defined=defined)
 
 
-def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
+def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
     def violated(system: TransitionSystem) -> z3.BoolRef:
         assert isinstance(system.extension, MonitorExtension)
         return system.extension.violated(system)
@@ -224,21 +220,20 @@ def _refinement_goal(a: ast.Assertion, name: str) -> Goal:
             allowed = ext.allowed(before)
             offer = (f"; there it can do {allowed[0]}" if allowed == ["any event but tock"]
                      else f"; there it can do only {', '.join(allowed)}" if allowed else "; there it can do nothing")
-            return f"{a.other} cannot do {last} after the events before it{offer}"
+            return f"{spec} cannot do {last} after the events before it{offer}"
         rest = " ".join(ext.bad_end.get(state, []))
-        return f"after {name} terminates, the process goes on with {rest}, which {a.other} cannot do"
+        return f"after {name} terminates, the process goes on with {rest}, which {spec} cannot do"
 
-    claim = f"every trace is a trace of {a.other}"
+    claim = f"every trace is a trace of {spec}"
     if a.negated:
-        return Goal.witness(violated, describe, sought=f"a trace {a.other} cannot do", claim=claim)
+        return Goal.witness(violated, describe, sought=f"a trace {spec} cannot do", claim=claim)
     return Goal.violation(violated, describe, claim=claim)
 
 
-def _failures_goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
+def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
     """`M refines Q in the failures [divergences] model`, M on the left (docs/semantics.md §7.12):
     traces refinement, then no stable refusal of M that Q cannot make after the same trace, then (in
     the failures-divergences model, Q being divergence-free) no divergence of M."""
-    spec = a.other or ""
     divergences = a.semantic_model == "failures divergences"
     made: dict[int, tuple[MonitorExtension, Refusals]] = {}
 
@@ -255,7 +250,7 @@ def _failures_goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
     def describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
         return refusals(unroller.system).describe(unroller, model, k, spec)
 
-    traces = _refinement_goal(a, name)
+    traces = _refinement_goal(a, name, spec)
     claim = f"every trace is a trace of {spec}, and every stable refusal one {spec} can make after it"
 
     def either(system: TransitionSystem) -> z3.BoolRef:  # searched together: the shortest of either kind first
