@@ -5,7 +5,7 @@ Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--t
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` four
 refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
-assertions and five refinements in the failures models), checked with
+assertions and seven refinements in the failures models), checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
 `--timeout` seconds per assertion.  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that

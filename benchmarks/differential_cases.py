@@ -143,11 +143,14 @@ UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is d
 # Specifications over every channel of M: `Any` is stable only in states accepting one channel
 # (every value of it), so M refines it in the failures model exactly where, stable and short of
 # termination, M offers every value of some channel; `AnyOrStop` may also refuse everything at the
-# start; `Ext` accepts every channel at once; `TAny`, in a Timed section, also accepts tock.
+# start; `Ext` accepts every channel at once; `TAny`, in a Timed section, also accepts tock.  `Few`
+# and `Stopped` refine M (the specification on the left) where M has their traces and refusals.
 FAILURES = """csp FSpecs csp-begin
 Any = (M::a.in?x -> Any) |~| (M::b.out?x -> Any) |~| (M::c.in -> Any) |~| (M::c.out -> Any)
       |~| (M::opCall?x -> Any) |~| (M::terminate -> SKIP)
 AnyOrStop = Any |~| STOP
+Few = (M::c.in -> STOP) |~| (M::a.in.0 -> STOP) |~| (M::terminate -> SKIP)
+Stopped = STOP
 Ext = (M::a.in?x -> Ext) [] (M::b.out?x -> Ext) [] (M::c.in -> Ext) [] (M::c.out -> Ext)
       [] (M::opCall?x -> Ext) [] (M::terminate -> SKIP)
 csp-end
@@ -162,6 +165,8 @@ untimed assertion F1: M refines AnyOrStop in the failures divergences model.
 untimed assertion F2: M refines Ext in the failures model.
 untimed assertion F3: M does not refine Any in the failures divergences model.
 timed assertion F4: M refines TAny in the failures model.
+untimed assertion F5: Few refines M in the failures model.
+untimed assertion F6: Stopped refines M in the failures divergences model.
 """
 
 
