@@ -38,6 +38,28 @@ DIFFERENCES = {
                     "instantiation'), so both machines output VD and ctrl0 does e1.out.VD first"),
     ("test12", "A2"): (
         "violated", "as A1: CC of stm_ref0 set to VA and of stm_ref1 to VB, one value per declaration"),
+    ("AlphaAlgorithm", "a6"): (
+        "violated", "the case's instantiation defines Mathematics_floor(x) = x, a real for floor's nat result "
+                    "(FDR's reals are integers), which tockbmc refuses, so floor stays uninterpreted and "
+                    "Avoid's wait(floor(random() * 360 / av)) may last any time; the interpreter cannot replay "
+                    "the trace (uninterpreted floor). Loads since sets and tuples are supported: not yet studied"),
+    ("clocks5", "A0"): (
+        "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2, so its trace "
+                    "<opACall, tock, tock, term.out> is not one of Spec's: "
+                    "t2's sinceEntry(s0) >= 2 names the outer s0 (the transition's scope), which has no entry "
+                   "action and is entered at time 0, so it holds once the inner s0's entry (opA(); wait(2)) has "
+                   "run. RoboTool resets a state's clock on S::entered; its 4 tocks mean either that a composite "
+                   "counts as entered once its inner state's entry has run, or that state clocks are named by "
+                   "the state's simple name (CLID_s0), so the inner s0's entered resets it too: the evidence we "
+                   "have settles neither (DESIGN.md, Conformance)"),
+}
+
+# (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.
+UNDECIDED = {
+    ("clocks3", "R1"): "Z3 answers unknown at depth 5 ('incomplete quantifiers'; the case has a Set(nat) "
+                       "constant): not yet studied",
+    ("clocks6", "R3timed"): "'terminates' needs termination found within the bound (12 here)",
+    ("clocks5", "R3timed"): "'terminates': termination takes 13 steps (holds at the default bound 40)",
 }
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.
@@ -80,7 +102,7 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
 
 
 def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
-    checked = {k: v for k, v in results().items() if v[0] != "unsupported"}
+    checked = {k: v for k, v in results().items() if v[0] != "unsupported" and k not in UNDECIDED}
     wrong = {k: v for k, v in checked.items() if v[0] != "holds" and DIFFERENCES.get(k, ("",))[0] != v[0]}
     assert not wrong
     holding = sum(1 for v in checked.values() if v[0] == "holds")
@@ -91,8 +113,12 @@ def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
 
 def test_the_recorded_differences_are_the_only_ones() -> None:
     """The differences left: RoboTool's expectation is that every assertion holds."""
-    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported")}
+    differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported", "unknown")}
     assert differ == set(DIFFERENCES)
+
+
+def test_undecided_assertions_are_the_recorded_ones() -> None:
+    assert {k for k, v in results().items() if v[0] == "unknown"} == set(UNDECIDED)
 
 
 def test_csp_refinements_in_the_subset_are_checked() -> None:

@@ -25,7 +25,8 @@ INVALID = CONFORMANCE / "robochart-fail"
 # The valid cases that load today.  A case that starts loading must be added
 # here (and one that stops loading is a regression).
 EXPECTED_LOAD = {
-    "AsyncBuffers", "ChemicalDetector", "DuringAndDeadline", "DuringAndDeadline2", "Example1", "Example2",
+    "AlphaAlgorithm", "AsyncBuffers", "ChemicalDetector", "LetExpTest", "clocks0", "clocks1", "clocks2", "clocks3",
+    "clocks5", "clocks6", "set1", "DuringAndDeadline", "DuringAndDeadline2", "Example1", "Example2",
     "clock-wait-op", "clocks-ops1", "clocks-ops2", "clocks-ops3", "clocks4-required", "clocks7", "clocks8",
     "const1", "const_ref", "multi_final_state", "ops1", "ops2", "ops3", "ops4", "refsem", "rp-var-visible",
     "rp-var-visible-uses", "simGeneric-1", "simGeneric-5", "simGeneric-8", "test-core-assertions",

@@ -549,12 +549,9 @@ def test_suggestion_for_unimported_literal_differs_from_the_name(tmp_path: Path)
 
 
 @pytest.mark.parametrize(("declaration", "column", "message"), [
-    ("var s : Set(int)", 11, "unsupported: set types"),
-    ("var s : Seq(int)", 11, "unsupported: sequence types"),
-    ("var s : int * int", 11, "unsupported: tuples (product types)"),
+    ("var s : vector(int, 2)", 11, "unsupported: vectors and matrices"),
     ("var s : boolean = forall k : int @ k > 0", 21, "unsupported: quantified expressions ('forall')"),
-    ("var s : int = let k == 1 @ k", 17, "unsupported: let expressions"),
-    ("var s : boolean = 1 in {1, 2}", 21, "unsupported: sets (membership 'in')"),
+    ("var s : Set(int) = {1 to 2}", 22, "unsupported: sets ('{a to b}')"),
 ])
 def test_unsupported_construct_at_its_line(tmp_path: Path, declaration: str, column: int, message: str) -> None:
     write_files(tmp_path, {"m.rct": f"stm M {{\n  var x : int = 0\n  {declaration}\n  initial i\n"

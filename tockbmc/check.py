@@ -330,12 +330,12 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
     verdict, trace and time do not depend on what was checked before it in the same process: the
     same assertion gives the same result alone, after others, or in a worker process (`check -j`).
     """
-    with _own_z3_context():
+    with own_z3_context():
         return _Check(a, bound, config, timeout, induction, shortest, progress).run(project)
 
 
 @contextmanager
-def _own_z3_context() -> Iterator[None]:
+def own_z3_context() -> Iterator[None]:
     """Give Z3's main context (the one every term is built in by default) a fresh value inside the block.
 
     Z3's models depend on what its context has seen (the numbering of terms), so a counterexample

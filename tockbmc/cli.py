@@ -25,6 +25,7 @@ from tockbmc.interrupt import Decided, decide, interrupted
 from tockbmc.model import ModelError, Project, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
+from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
 from tockbmc.model.result import Result, exit_code
@@ -313,6 +314,63 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
         with reader_may_leave(sys.stdout):
             table.finish()
     return results, decided
+
+
+@cli.command()
+@click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
+@click.option("-a", "--assertion", "names", multiple=True, help="Explore only this assertion (repeatable).")
+@click.option("--param", "param_specs", multiple=True, metavar="NAME",
+              help="What varies (repeatable): a range (core_int, core_nat, core_real, a model type, a path "
+                   "EXAX::move.time), whose bounds become parameters, or a constant without a value.  Default: "
+                   "every core range --range does not fix, and every constant without a value.")
+@click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI", help="Fix a range (as for check).")
+@click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Fix a constant (as for check).")
+@click.option("-k", "--bound", type=click.IntRange(0), default=DEFAULT_BOUND, show_default=True,
+              help="Maximum number of steps searched where no proof for every length is found.")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=120.0, show_default=True,
+              callback=_finite, help="Seconds per assertion; past it the region is reported as not complete.")
+@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True,
+              help="Text, or JSON.")
+def explore(paths: tuple[str, ...], names: tuple[str, ...], param_specs: tuple[str, ...],
+            range_specs: tuple[str, ...], set_specs: tuple[str, ...], bound: int, timeout: float, fmt: str) -> None:
+    """Say, for each assertion of the model in PATHS, exactly which ranges and constants violate it.
+
+    The bounds of the ranges and the constants that vary are symbols: for each assertion the
+    exact set of their values with a counterexample is computed (to the bound, or for runs of
+    every length where a proof is found), printed as a condition in the model's names with the
+    parameters it does not depend on, one counterexample replayed at a point inside, and the
+    values each input field of a shortest counterexample can carry.
+
+    Exit status: 0 every region found, 20 some not complete or unsupported, 2 usage error,
+    3 model error, 1 internal error.
+    """
+    from tockbmc.explore import explore as explore_project
+    from tockbmc.model.exploration import Exploration
+    from tockbmc.report.explore import print_exploration, print_scope
+    from tockbmc.report.explore import to_json as explore_json
+
+    ranges, settings = _ranges(range_specs), _settings(set_specs)
+    project = _load(paths, fmt)
+    known = {a.name for a in project.assertions}
+    for n in names:
+        if n not in known:
+            raise click.BadParameter(f"no assertion named '{n}'{suggestion(n, sorted(known))}", param_hint="'-a'")
+    found: list[Exploration] = []
+    console = _stdout_console()
+    try:
+        for e in explore_project(project, names or None, bound, ranges, settings, param_specs, timeout):
+            found.append(e)
+            if fmt == "text":
+                with reader_may_leave(sys.stdout):
+                    print_exploration(e, console)
+    except ConfigError as exc:
+        raise click.BadParameter(str(exc), param_hint=f"'{exc.option}'") from None
+    with reader_may_leave(sys.stdout):
+        if fmt == "json":
+            click.echo(json.dumps(explore_json(found, __version__, bound), indent=2, ensure_ascii=False))
+        else:
+            print_scope(found, bound, console)
+    sys.exit(0 if all(e.status == "region" for e in found) else 20)
 
 
 @cli.command()

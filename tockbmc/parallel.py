@@ -18,6 +18,8 @@ worker processes and Dask tasks through a queue.
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import multiprocessing
 import pickle
 import signal
@@ -27,7 +29,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from functools import lru_cache
-from multiprocessing import forkserver
+from multiprocessing import forkserver, resource_tracker
 from typing import Any
 
 import z3
@@ -177,9 +179,26 @@ def _taker(sink: Any) -> Callable[[], list[tuple[int, int | None]]]:
     return take
 
 
+def _stop_servers() -> None:
+    """End the fork server and the resource tracker, and wait for them.  Left to end when this
+    process ends, they outlive it for a moment as orphans, which an init that does not reap
+    (a container's) keeps as zombies in the process group (farm-bench saw them after `check -j 2`)."""
+    for owner in (forkserver._forkserver, resource_tracker._resource_tracker):  # noqa: SLF001 - no public way
+        stop = getattr(owner, "_stop", None)
+        if stop is not None:
+            with contextlib.suppress(Exception):
+                stop()
+
+
+@lru_cache(maxsize=1)
+def _stop_servers_at_exit() -> None:
+    atexit.register(_stop_servers)  # once (cached)
+
+
 def _context() -> multiprocessing.context.BaseContext:
     """forkserver (spawn where there is none): Z3 is not forked with state in it, and workers start
     from a server that has imported tockbmc once."""
+    _stop_servers_at_exit()
     if "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(["tockbmc.parallel"])

@@ -32,7 +32,7 @@ from multiprocessing.connection import Connection
 import z3
 
 from tockbmc.encodings.system import TransitionSystem
-from tockbmc.encodings.terms import subterms
+from tockbmc.encodings.terms import constants, subterms
 from tockbmc.encodings.values import leaves
 
 
@@ -107,11 +107,14 @@ class Spacer:
 
     def __init__(self, system: TransitionSystem, target: z3.BoolRef):
         init, trans = system.init(), system.trans()  # built first: building them declares the inputs
-        constants = {t.get_id(): t for c in system.constants.values() for v in c.values() for _p, t in leaves(v)}
         names = list(system.sorts)
-        self.args = [system.cur[n] for n in names] + list(constants.values())
-        nxt = [system.nxt[n] for n in names] + list(constants.values())
         inputs = [t for _t, v in system.inputs.values() for _p, t in leaves(v)]
+        # What every step shares (the constants, a parametric range's bounds) is carried unchanged
+        # by the relation: left free, Spacer would choose its value instead of covering every one.
+        stepwise = {t.get_id() for t in [*system.cur.values(), *system.nxt.values(), system.act, *inputs]}
+        rigid = [t for t in constants(init, trans, target) if t.get_id() not in stepwise]
+        self.args = [system.cur[n] for n in names] + rigid
+        nxt = [system.nxt[n] for n in names] + rigid
         inv = z3.Function("Inv", *[x.sort() for x in self.args], z3.BoolSort())
         cur = self.args
         steps = cur + [system.nxt[n] for n in names] + [system.act] + inputs

@@ -12,9 +12,11 @@ from tockbmc.encodings.automaton import Edge
 from tockbmc.encodings.composition import External
 from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
-from tockbmc.encodings.values import Value, leaf_type, leaves
+from tockbmc.encodings.values import Value, leaf_type, leaves, parts
 from tockbmc.model import ast
 from tockbmc.model.config import declaration_key
+from tockbmc.model.data import Product, text_of
+from tockbmc.model.errors import Unsupported
 from tockbmc.model.numbers import real_text
 from tockbmc.model.result import TraceStep
 from tockbmc.properties.process import MonitorExtension
@@ -22,6 +24,8 @@ from tockbmc.properties.process import MonitorExtension
 
 def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
     v = model.eval(term, model_completion=True)
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return text_of(t, term_value(v, t))
     if isinstance(t, ast.EnumType):
         i = v.as_long()
         return f"{t.name}::{t.literals[i]}" if 0 <= i < len(t.literals) else str(i)
@@ -38,11 +42,13 @@ def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
 
 def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
     """A value in a model as a Python value: int, Fraction, bool, "Type::LIT", or a dict for a record."""
-    if isinstance(t, ast.RecordType):
+    if parts(t):
         assert isinstance(value, dict)
-        return {f.name: python_value(value[f.name], model, f.type) for f in t.fields}
+        return {f: python_value(value[f], model, ft) for f, ft in parts(t)}
     assert not isinstance(value, dict)
     v = model.eval(value, model_completion=True)
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return term_value(v, t)
     if isinstance(t, ast.EnumType):
         i = v.as_long()
         return f"{t.name}::{t.literals[i]}" if 0 <= i < len(t.literals) else i
@@ -54,6 +60,65 @@ def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
     if z3.is_int_value(v):
         return int(_fraction(v))
     return str(v)
+
+
+def term_value(v: z3.ExprRef, t: ast.Type) -> object:
+    """A value term of a model (`model.eval`'s) as a Python value: a tuple for a sequence, a
+    frozenset for a set, a tuple (of `Product`) for a tuple, a dict for a record."""
+    if isinstance(t, ast.SeqType):
+        items: list[object] = []
+        stack = [v]
+        while stack:
+            x = stack.pop()
+            if z3.is_app_of(x, z3.Z3_OP_SEQ_CONCAT):
+                stack.extend(reversed(x.children()))
+            elif z3.is_app_of(x, z3.Z3_OP_SEQ_UNIT):
+                items.append(term_value(x.arg(0), t.element))
+            elif not z3.is_app_of(x, z3.Z3_OP_SEQ_EMPTY):
+                raise Unsupported(ast.Pos("<model>", 1, 1), f"a sequence value Z3 gave as {x}")
+        return tuple(items)
+    if isinstance(t, ast.SetType):
+        return frozenset(_members(v, t))
+    if parts(t):
+        sort = v.sort()
+        assert isinstance(sort, z3.DatatypeSortRef)
+        fields = {f: term_value(v.arg(i), ft) for i, (f, ft) in enumerate(parts(t))}
+        return fields if isinstance(t, ast.RecordType) else Product(fields.values())
+    if isinstance(t, ast.EnumType):
+        i = v.as_long()  # type: ignore[attr-defined]
+        return f"{t.name}::{t.literals[i]}" if 0 <= i < len(t.literals) else i
+    if z3.is_true(v) or z3.is_false(v):
+        return z3.is_true(v)
+    if z3.is_rational_value(v) or z3.is_int_value(v):
+        f = _fraction(v)  # type: ignore[arg-type]
+        return int(f) if f.denominator == 1 and t != ast.REAL else f
+    raise Unsupported(ast.Pos("<model>", 1, 1), f"a value Z3 gave as {v}")
+
+
+def _members(v: z3.ExprRef, t: ast.SetType) -> list[object]:
+    """The members of a finite set value (a constant array with stores, or a lambda over equalities)."""
+    out: list[object] = []
+    x = v
+    while z3.is_app_of(x, z3.Z3_OP_STORE):
+        if z3.is_true(x.arg(2)):
+            out.append(term_value(x.arg(1), t.element))
+        x = x.arg(0)
+    if z3.is_app_of(x, z3.Z3_OP_CONST_ARRAY) and z3.is_false(x.arg(0)):
+        return out
+    if z3.is_quantifier(x) and x.is_lambda():
+        body = x.body()
+        disjuncts = body.children() if z3.is_or(body) else [body]
+        for d in disjuncts:
+            if z3.is_false(d):
+                continue
+            if z3.is_eq(d) and z3.is_var(d.arg(0)):
+                out.append(term_value(d.arg(1), t.element))
+            elif z3.is_eq(d) and z3.is_var(d.arg(1)):
+                out.append(term_value(d.arg(0), t.element))
+            else:
+                raise Unsupported(ast.Pos("<model>", 1, 1), f"a set value Z3 gave as {v}")
+        return out
+    raise Unsupported(ast.Pos("<model>", 1, 1), f"a set value Z3 gave as {v} (not a finite set)")
 
 
 def _fraction(v: z3.RatNumRef | z3.IntNumRef) -> Fraction:
@@ -84,6 +149,9 @@ def value_text(value: Value, model: z3.ModelRef, t: ast.Type) -> str:
     if isinstance(t, ast.RecordType):
         assert isinstance(value, dict)
         return "(" + ", ".join(f"{f.name}={value_text(value[f.name], model, f.type)}" for f in t.fields) + ")"
+    if isinstance(t, ast.ProductType):
+        assert isinstance(value, dict)
+        return "(" + ", ".join(value_text(value[f], model, ft) for f, ft in parts(t)) + ")"
     assert not isinstance(value, dict)
     return scalar_text(value, model, t)
 

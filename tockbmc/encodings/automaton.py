@@ -23,7 +23,7 @@ from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 
 
 def entry_clock(state: str) -> str:
-    """The name of the counter behind `sinceEntry(state)`: a clock reset on entering the state."""
+    """The name of the counter behind `sinceEntry(state)`: a clock reset once the state's entry action has run."""
     return f"sinceEntry({state})"
 
 
@@ -432,11 +432,7 @@ class _Builder:
     def _entry(self, cur: int, state: str, active: tuple[str, ...]) -> int:
         node = self._nodes[state]
         inside = (*active, state)
-        if state in self.since_entry:
-            nxt = self._location(f"{state}: entering", inside)
-            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),), pos=node.pos)
-            cur = nxt
-        elif node.entry is not None:
+        if node.entry is not None or state in self.since_entry:
             # The state is entered when its entry action starts (docs/semantics.md §7.4 `is reachable`): the entry runs
             # from a location where the state is already active (no extra step when the step into
             # `cur` can lead here directly).
@@ -445,6 +441,10 @@ class _Builder:
             cur = nxt
         if node.entry is not None:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
+        if state in self.since_entry:  # counted from the end of the entry action, as RoboTool's `S::entered`
+            nxt = self._location(f"{state}: entered", inside)
+            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),), pos=node.pos)
+            cur = nxt
         return cur
 
     def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...],

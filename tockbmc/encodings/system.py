@@ -24,7 +24,19 @@ import z3
 from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
-from tockbmc.encodings.values import Evaluator, Ranges, Value, domain, equal, fresh, leaf_type, leaves, sort_of
+from tockbmc.encodings.values import (
+    Evaluator,
+    Ranges,
+    Value,
+    as_type,
+    domain,
+    equal,
+    fresh,
+    leaf_type,
+    leaves,
+    parts,
+    sort_of,
+)
 from tockbmc.model import ast
 from tockbmc.model.config import constant_setting, declaration_key
 from tockbmc.model.csp import canonical
@@ -112,6 +124,7 @@ class TransitionSystem:
         self.inputs: dict[str, tuple[ast.Type, Value]] = {}  # values chosen during the step, by name
         self.side: list[z3.BoolRef] = []  # function axioms at the calls the formulas make (grows as they are built)
         self.constraints: list[z3.BoolRef] = []  # on constants: they hold at every step
+        self.open_constants: dict[str, Value] = {}  # constants without a value (parameters), by declaration key
         self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int, str]] = {}  # slot -> (type, initial, component, declaration)
@@ -179,8 +192,8 @@ class TransitionSystem:
     def value(self, base: str, t: ast.Type, after: bool = False) -> Value:
         """A variable's value before the template step (after it, with `after`)."""
         f = self.nxt if after else self.cur
-        if isinstance(t, ast.RecordType):
-            return {fd.name: self.value(f"{base}.{fd.name}", fd.type, after) for fd in t.fields}
+        if parts(t):
+            return {fd: self.value(f"{base}.{fd}", ft, after) for fd, ft in parts(t)}
         return f[base]
 
     def evaluator(self, c: int, extra: dict[int, Value] | None = None) -> Evaluator:
@@ -231,6 +244,9 @@ class TransitionSystem:
             return []
         ev = self.evaluator(c)
         if e.kind == "call":
+            if e.operation is not None and len(e.operation.parameters) == len(e.args):
+                # each argument in its parameter's type: `op(1)` and `op(x)` on a real parameter carry reals
+                return [(as_type(ev.value(a), p.type), p.type) for a, p in zip(e.args, e.operation.parameters)]
             return [(ev.value(a), a.type) for a in e.args]
         assert e.event is not None
         t = e.event.type
@@ -240,7 +256,7 @@ class TransitionSystem:
             name = self.network.visible_name(c, e.event.name)
             return [(self.input(names.input_value(name), t), t)]
         assert e.value is not None
-        return [(ev.value(e.value), t)]
+        return [(as_type(ev.value(e.value), t), t)]
 
     # ------------------------------------------------------------ declarations
 
@@ -305,6 +321,7 @@ class TransitionSystem:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side).value(expr)))
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
+            self.open_constants.setdefault(declaration_key(decl), value)
         return value
 
     # ------------------------------------------------------------ moves

@@ -25,19 +25,89 @@ Value = Union[z3.ExprRef, dict[str, "Value"]]
 
 
 def sort_of(t: ast.Type) -> z3.SortRef:
+    """The Z3 sort of a value of `t` kept in one term: sequences are Z3 sequences, sets arrays to
+    booleans (Z3's sets), records and tuples (inside sequences and sets, and as arguments of
+    uninterpreted functions) a datatype with one constructor."""
     if t == ast.BOOLEAN:
         return z3.BoolSort()
     if t == ast.REAL:
         return z3.RealSort()
     if t in (ast.INT, ast.NAT) or isinstance(t, (ast.EnumType, ast.GivenType)):
         return z3.IntSort()
+    if isinstance(t, ast.SeqType):
+        return z3.SeqSort(sort_of(t.element))
+    if isinstance(t, ast.SetType):
+        return z3.SetSort(sort_of(t.element))
+    if isinstance(t, (ast.RecordType, ast.ProductType)):
+        return _datatype(t)
     raise Unsupported(ast.Pos("<model>", 1, 1), f"values of type {t} are not encoded yet")
+
+
+def _datatype(t: ast.RecordType | ast.ProductType) -> z3.DatatypeSortRef:
+    """The datatype of a record or tuple type in the current Z3 context, made once per context.
+
+    The sorts are kept on the context object itself, so they live and die with it (each check has a
+    context of its own), rather than in a module-level table that would keep every context alive."""
+    ctx = z3.main_ctx()
+    kept: dict[ast.Type, z3.DatatypeSortRef] = ctx.__dict__.setdefault("tockbmc_datatypes", {})
+    if t not in kept:
+        name = _qualified(t)
+        dt = z3.Datatype(name)
+        dt.declare(f"mk {name}", *[(f"{name}.{f}", sort_of(ft)) for f, ft in parts(t)])
+        kept[t] = dt.create()
+    return kept[t]
+
+
+def _qualified(t: ast.Type) -> str:
+    """A type's name with every declared type in it qualified (two packages' `ID * ID` differ)."""
+    if isinstance(t, ast.ProductType):
+        return "(" + "*".join(_qualified(p) for p in t.parts) + ")"
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return f"{'Seq' if isinstance(t, ast.SeqType) else 'Set'}({_qualified(t.element)})"
+    return getattr(t, "qname", t.name)
+
+
+def parts(t: ast.Type) -> list[tuple[str, ast.Type]]:
+    """The fields of a record type, or the parts of a tuple type named "1", "2", … (else none)."""
+    if isinstance(t, ast.RecordType):
+        return [(f.name, f.type) for f in t.fields]
+    if isinstance(t, ast.ProductType):
+        return [(str(i), pt) for i, pt in enumerate(t.parts, 1)]
+    return []
+
+
+def pack(v: Value, t: ast.Type) -> z3.ExprRef:
+    """A value as one term of `sort_of(t)` (a record's or tuple's fields into its datatype)."""
+    if isinstance(v, dict):
+        sort = sort_of(t)
+        assert isinstance(sort, z3.DatatypeSortRef)
+        return sort.constructor(0)(*[pack(v[f], ft) for f, ft in parts(t)])
+    if t == ast.REAL:
+        return _to_real(v)
+    return v
+
+
+def unpack(x: z3.ExprRef, t: ast.Type) -> Value:
+    """The value of a term of `sort_of(t)`: records and tuples as dicts of their fields."""
+    fs = parts(t)
+    if not fs:
+        return x
+    sort = sort_of(t)
+    assert isinstance(sort, z3.DatatypeSortRef)
+    return {f: unpack(sort.accessor(0, i)(x), ft) for i, (f, ft) in enumerate(fs)}
+
+
+def as_type(v: Value, t: ast.Type) -> Value:
+    """`v` with its integer leaves made reals where `t` has reals (an integer sent on a real event)."""
+    if isinstance(v, dict):
+        return {f: as_type(v[f], ft) for f, ft in parts(t)} if parts(t) else v
+    return _to_real(v) if t == ast.REAL else v
 
 
 def fresh(name: str, t: ast.Type) -> Value:
     """A fresh symbolic value of type `t`."""
-    if isinstance(t, ast.RecordType):
-        return {f.name: fresh(f"{name}.{f.name}", f.type) for f in t.fields}
+    if parts(t):
+        return {f: fresh(f"{name}.{f}", ft) for f, ft in parts(t)}
     return z3.Const(name, sort_of(t))
 
 
@@ -54,10 +124,7 @@ def leaves(v: Value, prefix: str = "") -> list[tuple[str, z3.ExprRef]]:
 def leaf_type(t: ast.Type, path: str) -> ast.Type:
     """The type of the scalar at field path `path` (`.dist`) of a value of type `t`."""
     for part in [p for p in path.split(".") if p]:
-        assert isinstance(t, ast.RecordType)
-        ft = t.field_type(part)
-        assert ft is not None
-        t = ft
+        t = dict(parts(t))[part]
     return t
 
 
@@ -80,21 +147,52 @@ def _to_real(x: z3.ExprRef) -> z3.ExprRef:
 
 def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
     """Constraints on a value the environment chooses: its type's domain and any ranges."""
-    if isinstance(t, ast.RecordType):
+    if parts(t):
         assert isinstance(v, dict)
-        return [c for f in t.fields for c in domain(v[f.name], f.type, ranges, f"{path}.{f.name}")]
+        return [c for f, ft in parts(t) for c in domain(v[f], ft, ranges, f"{path}.{f}")]
     assert not isinstance(v, dict)
     cs: list[z3.BoolRef] = []
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return _container_domain(v, t, ranges, path)
     if t == ast.NAT:
         cs.append(v >= 0)
     if isinstance(t, ast.EnumType):
         cs += [v >= 0, v < len(t.literals)]
-    r = ranges.by_path.get(path)
-    if r is None:
-        name = TYPE_RANGE_NAMES.get(t.name, t.name) if isinstance(t, ast.PrimitiveType) else t.name
-        r = ranges.by_type.get(name)
-    if r is not None and z3.is_arith(v):
-        cs += [v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+    if not z3.is_arith(v):
+        return cs
+    name = TYPE_RANGE_NAMES.get(t.name, t.name) if isinstance(t, ast.PrimitiveType) else t.name
+    for bounded in (path, name):
+        if bounded in ranges.parametric:
+            low, high = range_bounds(bounded, v.sort())
+            return [*cs, v >= low, v <= high]
+        r = ranges.by_path.get(path) if bounded == path else ranges.by_type.get(name)
+        if r is not None:
+            return [*cs, v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+    return cs
+
+
+def range_bounds(name: str, sort: z3.SortRef) -> tuple[z3.ArithRef, z3.ArithRef]:
+    """The lower and upper bound of a parametric range, as symbols (the same at every step)."""
+    return z3.Const(f"range[{name}].low", sort), z3.Const(f"range[{name}].high", sort)  # type: ignore[return-value]
+
+
+def _container_domain(v: z3.ExprRef, t: ast.SeqType | ast.SetType, ranges: Ranges, path: str) -> list[z3.BoolRef]:
+    """A sequence's or set's elements in their type's domain (a quantified constraint); a range
+    on the sequence's own path bounds its length."""
+    cs: list[z3.BoolRef] = []
+    if isinstance(t, ast.SeqType):
+        r = ranges.by_path.get(path)
+        if r is not None:
+            cs += [z3.Length(v) >= _const(r.low, z3.IntSort()), z3.Length(v) <= _const(r.high, z3.IntSort())]
+        i = z3.Int(f"{path}!i")
+        inner = domain(unpack(v[i], t.element), t.element, ranges, f"{path}[]")
+        if inner:
+            cs.append(z3.ForAll([i], z3.Implies(z3.And(i >= 0, i < z3.Length(v)), z3.And(inner))))
+        return cs
+    x = z3.Const(f"{path}!x", sort_of(t.element))
+    inner = domain(unpack(x, t.element), t.element, ranges, f"{path}[]")
+    if inner:
+        cs.append(z3.ForAll([x], z3.Implies(z3.IsMember(x, v), z3.And(inner))))
     return cs
 
 
@@ -181,6 +279,12 @@ class Evaluator:
             return z3.If(c, a, b)
         if isinstance(e, ast.Call):
             return self._call(e, operands)
+        if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
+            return _collection(e, operands)
+        if isinstance(e, ast.Let):
+            [bound] = operands
+            inner = Evaluator({**self.env, id(e.variable): bound}, self.constants, self.side, self.clocks)
+            return inner.value(e.body)
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
             if name not in self.clocks:
@@ -203,13 +307,17 @@ class Evaluator:
             args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
             pre = z3.And([inner.scalar(c) for c in f.preconditions])
             return z3.If(pre, defined, anything(*args))
-        # Uninterpreted: any function meeting its pre/postconditions.
-        if isinstance(f.result, ast.RecordType) or any(isinstance(a, dict) for a in args):
-            raise Unsupported(e.pos, "uninterpreted functions over records are not encoded yet")
+        # Uninterpreted: any function meeting its pre/postconditions (records and tuples passed
+        # and returned in their datatype).
         sorts = [sort_of(p.type) for p in f.parameters]
         fn = z3.Function(f.qname, *sorts, sort_of(f.result))
-        args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
-        result = fn(*args)
+        args = [pack(a, p.type) for a, p in zip(args, f.parameters)]
+        packed = fn(*args)
+        if parts(f.result):
+            if f.postconditions:
+                raise Unsupported(e.pos, "postconditions of functions returning records or tuples are not encoded yet")
+            return unpack(packed, f.result)
+        result = packed
         # The axiom `pre => post`, instantiated at this call: exact, since only called points matter.
         ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side)
         pre = [ev.scalar(c) for c in f.preconditions]
@@ -233,7 +341,102 @@ def _operands(e: ast.Expr) -> tuple[ast.Expr, ...]:
         return tuple(v for _, v in e.fields)
     if isinstance(e, ast.Call):
         return e.args
+    if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral)):
+        return e.items
+    if isinstance(e, ast.Index):
+        return (e.value, e.index)
+    if isinstance(e, ast.Builtin):
+        return e.args
+    if isinstance(e, ast.Let):
+        return (e.value,)
     return ()
+
+
+def _collection(e: ast.Expr, operands: list[Value]) -> Value:
+    """The value of a sequence, set or tuple expression given its operands' values."""
+    t = e.type
+    if isinstance(e, ast.TupleLiteral):
+        assert isinstance(t, ast.ProductType)
+        return {str(i): v for i, v in enumerate(operands, 1)}
+    if isinstance(e, ast.SeqLiteral):
+        assert isinstance(t, ast.SeqType)
+        units = [z3.Unit(pack(v, t.element)) for v in operands]
+        if not units:
+            return z3.Empty(sort_of(t))
+        return units[0] if len(units) == 1 else z3.Concat(*units)
+    if isinstance(e, ast.SetLiteral):
+        assert isinstance(t, ast.SetType)
+        s = z3.EmptySet(sort_of(t.element))
+        for v in operands:
+            s = z3.SetAdd(s, pack(v, t.element))
+        return s
+    if isinstance(e, ast.Index):
+        value, index = operands
+        if isinstance(value, dict):  # a tuple's part, chosen by a literal
+            assert isinstance(e.index, ast.Literal)
+            return value[str(e.index.value)]
+        assert not isinstance(index, dict)
+        # Outside 1..#s Z3's `nth` is unspecified: any value, as a function outside its precondition.
+        return unpack(value[index - 1], e.type)
+    assert isinstance(e, ast.Builtin)
+    return _builtin(e, operands)
+
+
+def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
+    op, args = e.op, e.args
+    xs: list[z3.ExprRef] = []
+    for a, v in zip(args, operands, strict=True):
+        xs.append(pack(v, a.type))
+    a = xs[0]
+    if op in ("in", "notin"):
+        set_type = args[1].type
+        assert isinstance(set_type, ast.SetType)
+        member = z3.IsMember(pack(operands[0], set_type.element), xs[1])
+        return member if op == "in" else z3.Not(member)
+    st = args[0].type
+    if op == "size":
+        if isinstance(st, ast.SetType):
+            raise Unsupported(e.pos, "the size of a set (Z3's sets have no cardinality)")
+        return z3.Length(a)
+    if op == "isNonEmpty":
+        return z3.Length(a) > 0
+    if op in ("head", "last"):
+        assert isinstance(st, ast.SeqType)
+        return unpack(a[0] if op == "head" else a[z3.Length(a) - 1], st.element)
+    if op == "tail":
+        return z3.SubSeq(a, 1, z3.Length(a) - 1)
+    if op == "front":
+        return z3.SubSeq(a, 0, z3.Length(a) - 1)
+    if op == "concat":
+        return z3.Concat(a, xs[1])
+    if op == "prefix":
+        return z3.PrefixOf(a, xs[1])
+    element = sort_of(st.element) if isinstance(st, (ast.SeqType, ast.SetType)) else None
+    if op == "reverse":
+        acc, x = z3.Const("rev!acc", a.sort()), z3.Const("rev!x", element)
+        return z3.SeqFoldLeft(z3.Lambda([acc, x], z3.Concat(z3.Unit(x), acc)), z3.Empty(a.sort()), a)
+    if op == "filter":
+        acc, x = z3.Const("filter!acc", a.sort()), z3.Const("filter!x", element)
+        keep = z3.If(z3.IsMember(x, xs[1]), z3.Concat(acc, z3.Unit(x)), acc)
+        return z3.SeqFoldLeft(z3.Lambda([acc, x], keep), z3.Empty(a.sort()), a)
+    if op == "dom":
+        i = z3.Int("dom!i")
+        return z3.Lambda([i], z3.And(i >= 1, i <= z3.Length(a)))
+    if op in ("ran", "elems"):
+        x = z3.Const("ran!x", element)
+        return z3.Lambda([x], z3.Contains(a, z3.Unit(x)))
+    b = xs[1]
+    if op == "union":
+        return z3.SetUnion(a, b)
+    if op == "inter":
+        return z3.SetIntersect(a, b)
+    if op == "diff":
+        return z3.SetDifference(a, b)
+    if op == "subseteq":
+        return z3.IsSubset(a, b)
+    if op == "subset":
+        return z3.And(z3.IsSubset(a, b), a != b)
+    raise Unsupported(e.pos, f"the operation '{op}' is not encoded yet")
 
 
 def _binary(e: ast.Binary, left: Value, right: Value) -> Value:

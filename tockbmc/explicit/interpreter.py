@@ -109,10 +109,13 @@ from fractions import Fraction
 from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
-from tockbmc.model.numbers import int_text, real_text
+from tockbmc.model.data import Product, text_of
 from tockbmc.model.untimed import untimed
 
 # ----------------------------------------------------------------------------- public values
+
+
+MAX_COLLECTIONS = 4096  # the most sequences one choice of the explicit engine lists
 
 
 class Unbounded(Exception):
@@ -261,7 +264,7 @@ def _replace(v: object, u: Unknown, x: object) -> object:
     if isinstance(v, Record):
         return Record({k: _replace(y, u, x) for k, y in v.items()})
     if isinstance(v, tuple):
-        return tuple(_replace(y, u, x) for y in v)
+        return _same_kind(v, (_replace(y, u, x) for y in v))
     return v
 
 
@@ -284,8 +287,13 @@ def fill(v: object, chosen: dict[int, object]) -> object:
     if isinstance(v, Record):
         return Record({k: fill(y, chosen) for k, y in v.items()})
     if isinstance(v, tuple):
-        return tuple(fill(y, chosen) for y in v)
+        return _same_kind(v, (fill(y, chosen) for y in v))
     return v
+
+
+def _same_kind(v: tuple, items: Iterable[object]) -> tuple:
+    """`items` as a tuple of the kind of `v` (a `Product` stays one)."""
+    return Product(items) if isinstance(v, Product) else tuple(items)
 
 
 def unknowns(v: object) -> tuple[list[Unknown], tuple[int, ...]]:
@@ -411,17 +419,7 @@ class Config:
 
 def value_text(t: ast.Type | None, v: object) -> str:
     """FDR-style text of a value, as tockbmc prints it."""
-    if isinstance(v, dict):
-        fields = [f.name for f in t.fields] if isinstance(t, ast.RecordType) else list(v)
-        ftype = (lambda n: t.field_type(n)) if isinstance(t, ast.RecordType) else (lambda n: None)
-        return "(" + ", ".join(f"{n}={value_text(ftype(n), v[n])}" for n in fields) + ")"
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, Fraction):
-        return real_text(v)
-    if isinstance(v, int):
-        return int_text(v)
-    return str(v)
+    return text_of(t, v)
 
 
 def _ediv(a: int, b: int) -> int:
@@ -444,6 +442,12 @@ def _coerce(t: ast.Type | None, v: object) -> object:
         return Record(fields)
     if t in (ast.INT, ast.NAT) and isinstance(v, Fraction) and v.denominator == 1:
         return int(v)
+    if isinstance(t, ast.SeqType) and isinstance(v, tuple):
+        return tuple(_coerce(t.element, x) for x in v)
+    if isinstance(t, ast.SetType) and isinstance(v, frozenset):
+        return frozenset(_coerce(t.element, x) for x in v)
+    if isinstance(t, ast.ProductType) and isinstance(v, tuple):
+        return Product(_coerce(pt, x) for pt, x in zip(t.parts, v, strict=True))
     return v
 
 
@@ -458,6 +462,10 @@ def _fits(t: ast.Type | None, v: object) -> bool:
         return not (isinstance(v, (int, Fraction)) and not isinstance(v, bool) and v < 0)
     if isinstance(t, ast.RecordType) and isinstance(v, dict):
         return all(_fits(f.type, v.get(f.name)) for f in t.fields)
+    if isinstance(t, (ast.SeqType, ast.SetType)) and isinstance(v, (tuple, frozenset)):
+        return all(_fits(t.element, x) for x in v)
+    if isinstance(t, ast.ProductType) and isinstance(v, tuple):
+        return all(_fits(pt, x) for pt, x in zip(t.parts, v, strict=True))
     return True
 
 
@@ -1059,11 +1067,33 @@ class Interpreter:
         elif isinstance(t, ast.RecordType):
             parts = [self.domain(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
             d = [Record(zip([f.name for f in t.fields], combo, strict=True)) for combo in itertools.product(*parts)]
+        elif isinstance(t, ast.ProductType):
+            parts = [self.domain(pt, tuple(f"{p}.{i}" for p in paths)) for i, pt in enumerate(t.parts, 1)]
+            d = [Product(combo) for combo in itertools.product(*parts)]
+        elif isinstance(t, (ast.SeqType, ast.SetType)):
+            d = self._collections(t, paths)
         else:
             lo, hi = self._bounds(t, paths)
             d = [Fraction(n) for n in range(lo, hi + 1)] if t == ast.REAL else list(range(lo, hi + 1))
         self._domains[key] = d
         return d
+
+    def _collections(self, t: ast.SeqType | ast.SetType, paths: tuple[str, ...]) -> list:
+        """Every sequence or set the environment may choose: a sequence's length within the range
+        given on its path (none: it is unbounded), a set any subset of its element type's domain;
+        elements take their type's range.  At most `MAX_COLLECTIONS` of them."""
+        elements = self.domain(t.element, tuple(f"{p}[]" for p in paths))
+        if isinstance(t, ast.SetType):
+            if len(elements) > 12:
+                raise NotInterpretable(None, f"every value of {t}: 2^{len(elements)} sets")
+            return [frozenset(c) for n in range(len(elements) + 1) for c in itertools.combinations(elements, n)]
+        r = next((self.ranges[p] for p in paths if p in self.ranges), None)
+        if r is None:
+            raise Unbounded(str(t), paths[0] if paths else None)
+        lo, hi = max(0, math.ceil(r[0])), math.floor(r[1])
+        if sum(len(elements) ** n for n in range(lo, hi + 1)) > MAX_COLLECTIONS:
+            raise NotInterpretable(None, f"every value of {t} of length {lo}..{hi}: more than {MAX_COLLECTIONS}")
+        return [tuple(c) for n in range(lo, hi + 1) for c in itertools.product(elements, repeat=n)]
 
     def _bounds(self, t: ast.Type, paths: tuple[str, ...]) -> tuple[int, int]:
         """The integers a scalar of type `t` takes (a real's integer values): a path's range, else its type's."""
@@ -1090,6 +1120,8 @@ class Interpreter:
             return len(t.literals)
         if isinstance(t, ast.RecordType):
             return math.prod(self._size(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields)
+        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType)):
+            return len(self.domain(t, paths))
         lo, hi = self._bounds(t, paths)
         return max(0, hi - lo + 1)
 
@@ -1105,6 +1137,8 @@ class Interpreter:
             return f"{t.name}::{rng.choice(t.literals)}"
         if isinstance(t, ast.RecordType):
             return Record({f.name: self._draw(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields})
+        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType)):
+            return rng.choice(self.domain(t, paths))
         lo, hi = self._bounds(t, paths)
         n = rng.randint(lo, hi)
         return Fraction(n) if t == ast.REAL else n
@@ -1278,7 +1312,59 @@ class Interpreter:
                 ctx.bind = saved
         if isinstance(e, ast.ResultRef):
             raise NotInterpretable(e.pos, "result outside a postcondition")
+        if isinstance(e, ast.SeqLiteral):
+            return _coerce(e.type, tuple(self._ev(ctx, x) for x in e.items))
+        if isinstance(e, ast.SetLiteral):
+            return _coerce(e.type, frozenset(self._ev(ctx, x) for x in e.items))
+        if isinstance(e, ast.TupleLiteral):
+            return _coerce(e.type, Product(self._ev(ctx, x) for x in e.items))
+        if isinstance(e, ast.Index):
+            v = self._ev(ctx, e.value)
+            i = self._ev(ctx, e.index)
+            if isinstance(v, Product):
+                return v[i - 1]
+            if not 1 <= i <= len(v):
+                # Outside 1..#s an index has any value (as a function outside its precondition).
+                raise NotInterpretable(e.pos, f"index {i} outside a sequence of length {len(v)}")
+            return v[i - 1]
+        if isinstance(e, ast.Builtin):
+            return self._builtin(e, [self._ev(ctx, a) for a in e.args])
+        if isinstance(e, ast.Let):
+            value = self._ev(ctx, e.value)
+            saved = ctx.bind
+            ctx.bind = {**(saved or {}), (e.variable.owner, e.variable.name): value}
+            try:
+                return self._ev(ctx, e.body)
+            finally:
+                ctx.bind = saved
         raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _builtin(self, e: ast.Builtin, args: list) -> object:
+        """A built-in operation on sequences and sets, on Python tuples and frozensets."""
+        op, a = e.op, args[0]
+        if op in ("in", "notin"):
+            return (a in args[1]) == (op == "in")
+        if op in ("head", "last"):
+            if not a:
+                raise NotInterpretable(e.pos, f"{op} of an empty sequence")
+            return a[0] if op == "head" else a[-1]
+        simple: dict[str, Callable[[], object]] = {
+            "size": lambda: len(a), "isNonEmpty": lambda: len(a) > 0, "tail": lambda: a[1:], "front": lambda: a[:-1],
+            "reverse": lambda: a[::-1], "dom": lambda: frozenset(range(1, len(a) + 1)),
+            "ran": lambda: frozenset(a), "elems": lambda: frozenset(a),
+        }
+        if op in simple:
+            return simple[op]()
+        b = args[1]
+        pair: dict[str, Callable[[], object]] = {
+            "concat": lambda: _coerce(e.type, a + b), "prefix": lambda: b[:len(a)] == a,
+            "filter": lambda: tuple(x for x in a if x in b),
+            "union": lambda: _coerce(e.type, a | b), "inter": lambda: a & b, "diff": lambda: a - b,
+            "subseteq": lambda: a <= b, "subset": lambda: a < b,
+        }
+        if op in pair:
+            return pair[op]()
+        raise NotInterpretable(e.pos, f"the operation {op}")
 
     def _eval_ref(self, ctx: _Ctx, e: ast.Expr) -> Any:
         """`e`'s value, which may hold Unknowns when `e` only names a variable or one of its fields
@@ -1492,11 +1578,12 @@ class Interpreter:
             elif tag == "e":
                 path = head[1]
                 node = beh.nodes[path]
-                s = self._slot_of.get(("since", ctx.i, f.beh, path))
-                if s is not None:
-                    ctx.set(s, 0)
                 pre = (("s", self._sid_of(node.entry)),) if node.kind == "state" and node.entry is not None else ()
-                frames[-1] = f._replace(node=path, cont=(*pre, *rest), via=None)
+                since = (("r", path),) if ("since", ctx.i, f.beh, path) in self._slot_of else ()
+                frames[-1] = f._replace(node=path, cont=(*pre, *since, *rest), via=None)
+            elif tag == "r":  # the entry action has run: sinceEntry counts from here (RoboTool's `S::entered`)
+                ctx.set(self._slot_of[("since", ctx.i, f.beh, head[1])], 0)
+                frames[-1] = f._replace(cont=rest)
             elif tag == "a":
                 target, durs = head[1], head[2]
                 node = beh.nodes[target]

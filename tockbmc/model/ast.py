@@ -96,6 +96,51 @@ class RecordType(Type):
 
 
 @dataclass(frozen=True)
+class SeqType(Type):
+    """`Seq(T)`: finite sequences of `T`, indexed from 1."""
+
+    element: Type
+
+    @property
+    def name(self) -> str:
+        return f"Seq({self.element})"
+
+
+@dataclass(frozen=True)
+class SetType(Type):
+    """`Set(T)`: sets of `T` (finite or not: a set is its membership predicate)."""
+
+    element: Type
+
+    @property
+    def name(self) -> str:
+        return f"Set({self.element})"
+
+
+@dataclass(frozen=True)
+class ProductType(Type):
+    """`T1 * T2 * …`: tuples, written `(| a, b |)`, whose parts are read `p[1]`, `p[2]`, …"""
+
+    parts: tuple[Type, ...]
+
+    @property
+    def name(self) -> str:
+        return "*".join(f"({p})" if isinstance(p, ProductType) else str(p) for p in self.parts)
+
+
+@dataclass(frozen=True)
+class AnyElement(Type):
+    """The element type of an empty literal (`<>`, `{}`): fits any element type."""
+
+    @property
+    def name(self) -> str:
+        return "?"
+
+
+ANY = AnyElement()
+
+
+@dataclass(frozen=True)
 class ErrorType(Type):
     """The type of an expression that failed to check; compatible with all."""
 
@@ -126,10 +171,19 @@ def assignable(target: Type, value: Type) -> bool:
     non-negative is a property of the run, checked by the engines, as in
     RoboChart).  A `real` never fits an integer place.
     """
-    if isinstance(target, ErrorType) or isinstance(value, ErrorType):
+    if isinstance(target, (ErrorType, AnyElement)) or isinstance(value, (ErrorType, AnyElement)):
         return True
     if target == value:
         return True
+    if isinstance(target, SeqType) and isinstance(value, SeqType) or \
+            isinstance(target, SetType) and isinstance(value, SetType):
+        # Elements keep their representation: an integer sequence is not a real one (a literal is
+        # retyped to its place by the checker, `ExprChecker.conform`).
+        return assignable(target.element, value.element) and \
+            (target.element != REAL or value.element in (REAL, ANY) or isinstance(value.element, ErrorType))
+    if isinstance(target, ProductType) and isinstance(value, ProductType):
+        return len(target.parts) == len(value.parts) and \
+            all(assignable(a, b) for a, b in zip(target.parts, value.parts, strict=True))
     if target == REAL and value in (INT, NAT):
         return True
     if target in (INT, NAT) and value in (INT, NAT):
@@ -293,6 +347,53 @@ class IfExpr(Expr):
 class Call(Expr):
     function: Function
     args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class SeqLiteral(Expr):
+    """`<a, b, …>`."""
+
+    items: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class SetLiteral(Expr):
+    """`{a, b, …}`."""
+
+    items: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class TupleLiteral(Expr):
+    """`(| a, b, … |)`."""
+
+    items: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Index(Expr):
+    """`s[i]` of a sequence (1-based; outside `1..#s` any value, as outside a precondition) or
+    `p[k]` of a tuple (`k` a literal)."""
+
+    value: Expr
+    index: Expr
+
+
+@dataclass(frozen=True)
+class Builtin(Expr):
+    """An operation on sequences, sets or tuples: `op` names it (see `BUILTINS`), `args` its operands."""
+
+    op: str
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Let(Expr):
+    """`let x == e @ body`: `variable` (kind "let") stands for `value` in `body`."""
+
+    variable: Variable
+    value: Expr
+    body: Expr
 
 
 @dataclass(frozen=True)

@@ -80,6 +80,7 @@ FLAG_RANGE = Source("--range")
 FLAG_SET = Source("--set")
 FLAG_PARAM = Source("--param")
 ROBOTOOL_DEFAULT = Source("RoboTool default")
+UNSET_PARAM = Source("no value given: a parameter")
 
 
 def _at(pos: ast.Pos) -> str:
@@ -527,8 +528,9 @@ class Configuration:
 
     def __init__(self, project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
                  settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
-                 default_ranges: Ranges | None = None, instantiation: bool = True):
+                 default_ranges: Ranges | None = None, instantiation: bool = True, open_defaults: bool = False):
         self.names = Names(project)
+        self.open_defaults = open_defaults  # a constant with no value anywhere is a parameter, not RoboTool's default
         self.warnings: list[Diagnostic] = []
         self.texts: dict[str, str] = {}  # instantiation files read, for diagnostics
         self._ranges: dict[str, _RangeEntry] = {}
@@ -590,6 +592,8 @@ class Configuration:
         for key, v in declared.items():
             if v.initial is not None:
                 entries[key] = _ConstEntry(v.initial, Source("model", _at(v.pos)))
+            elif self.open_defaults:
+                entries[key] = _ConstEntry(None, UNSET_PARAM)
             else:
                 entries[key] = _ConstEntry(default_value(v.type, v.pos), ROBOTOOL_DEFAULT)
         for key, (value, source) in self._from_instantiation(slots).items():
@@ -824,7 +828,8 @@ def _referenced(clauses: dict[str, list[inst.Definition]]) -> set[str]:
 
 def configure(project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
               settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
-              default_ranges: Ranges | None = None, instantiation: bool = True) -> Configuration:
+              default_ranges: Ranges | None = None, instantiation: bool = True,
+              open_defaults: bool = False) -> Configuration:
     """The configuration of a project's checks (see `Configuration`)."""
-    return Configuration(project, ranges, settings, params, default_ranges, instantiation)
+    return Configuration(project, ranges, settings, params, default_ranges, instantiation, open_defaults)
 

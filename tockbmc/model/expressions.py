@@ -27,17 +27,18 @@ UNSUPPORTED_EXPRESSIONS = {
     "exists_expr": "quantified expressions ('exists')",
     "lambda_expr": "lambda expressions",
     "definite_description": "definite descriptions ('the')",
-    "let_expr": "let expressions",
-    "seq_expr": "sequences",
-    "set_expr": "sets",
-    "set_range_expr": "sets",
-    "tuple_expr": "tuples",
+    "set_range_expr": "sets ('{a to b}')",
     "vector_expr": "vectors and matrices",
-    "index_expr": "vectors, matrices and sequences (indexing)",
-    "in_expr": "sets (membership 'in')",
-    "cat_expr": "sequences (concatenation)",
     "as_expr": "toolkits (type casts 'as')",
     "is_expr": "toolkits (type tests 'is')",
+}
+
+# The toolkit functions built in (RoboTool's sequence_toolkit, set_toolkit and the parts of
+# relation_toolkit that read sequences), by name: how many arguments, and the kinds they take.
+TOOLKIT_FUNCTIONS = {
+    "size": 1, "head": 1, "last": 1, "tail": 1, "front": 1, "reverse": 1, "isNonEmpty": 1, "concat": 2,
+    "filter": 2, "prefix": 2, "dom": 1, "ran": 1, "elems": 1,
+    "union": 2, "inter": 2, "diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
 }
 
 _ARITHMETIC = {"+", "-", "*", "/", "%"}
@@ -94,6 +95,8 @@ class ExprChecker:
         self.report(self.pos(node), message)
 
     def expect(self, node: Tree | Token, e: ast.Expr, expected: ast.Type, what: str) -> ast.Expr:
+        """`e`, checked to fit a place of type `expected` (a literal retyped to it, `conform`)."""
+        e = conform(e, expected)
         if not ast.assignable(expected, e.type):
             self.error(node, f"type error: {what} must be {expected}, but this is {e.type}")
         return e
@@ -215,8 +218,7 @@ class ExprChecker:
                 self.error(fd, f"record {rtype.name} has no field '{fname}'"
                            f"{suggestion(fname, [f.name for f in rtype.fields])}")
                 continue
-            self.expect(fd.children[1], value, ftype, f"field '{fname}'")
-            values[fname] = value
+            values[fname] = self.expect(fd.children[1], value, ftype, f"field '{fname}'")
         return ast.RecordLiteral(rtype, p, tuple(values.items()))
 
     def _x_not_expr(self, node: Tree, p: Pos) -> ast.Expr:
@@ -287,13 +289,17 @@ class ExprChecker:
             for a in args_nodes:
                 self.expr(a)
             return ast.Literal(ERROR, p, 0)
+        if not isinstance(function, ast.Function) and self.scope.toolkit and name in TOOLKIT_FUNCTIONS \
+                and name not in self.scope.variables:
+            return self._toolkit_call(node, p, name, [self.expr(a) for a in args_nodes])
         if not isinstance(function, ast.Function):
             var = self.scope.variables.get(name)
             if var is not None:
                 if not isinstance(var.type, ast.ErrorType):  # else its type was already reported
                     self.error(callee, f"'{name}' is a variable of type {var.type}, not a function")
             elif self.scope.toolkit:
-                pass  # a toolkit function: the import is reported as unsupported
+                self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
+                           f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
             else:
@@ -308,9 +314,131 @@ class ExprChecker:
         args = tuple(self.expr(a) for a in args_nodes)
         if len(args) != len(params):
             self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given")
-        for a_node, a, param in zip(args_nodes, args, params):
-            self.expect(a_node, a, param.type, f"argument '{param.name}' of '{name}'")
-        return args
+            return args
+        return tuple(self.expect(a_node, a, param.type, f"argument '{param.name}' of '{name}'")
+                     for a_node, a, param in zip(args_nodes, args, params, strict=True))
+
+    # ----------------------------------------------------------------- sequences, sets, tuples
+
+    def _items(self, node: Tree) -> list[ast.Expr]:
+        return [self.expr(c) for c in node.children[0].children] if node.children else []
+
+    def _element_type(self, node: Tree, items: list[ast.Expr], what: str) -> ast.Type:
+        """The element type of a literal's items: their common type (numbers joined)."""
+        t: ast.Type = ast.ANY
+        for x in items:
+            if isinstance(x.type, ast.ErrorType):
+                return ERROR
+            if isinstance(t, ast.AnyElement):
+                t = x.type
+            elif ast.is_numeric(t) and ast.is_numeric(x.type):
+                t = ast.numeric_join(t, x.type)
+            elif ast.assignable(t, x.type):
+                pass
+            elif ast.assignable(x.type, t):
+                t = x.type
+            else:
+                self.error(node, f"type error: the items of {what} have types {t} and {x.type}")
+                return ERROR
+        return t
+
+    def _x_seq_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        items = self._items(node)
+        t = self._element_type(node, items, "a sequence")
+        if isinstance(t, ast.ErrorType):
+            return ast.SeqLiteral(ERROR, p, tuple(items))
+        return ast.SeqLiteral(ast.SeqType(t), p, tuple(conform(x, t) for x in items))
+
+    def _x_set_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        items = self._items(node)
+        t = self._element_type(node, items, "a set")
+        if isinstance(t, ast.ErrorType):
+            return ast.SetLiteral(ERROR, p, tuple(items))
+        return ast.SetLiteral(ast.SetType(t), p, tuple(conform(x, t) for x in items))
+
+    def _x_tuple_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        items = self._items(node)
+        if len(items) < 2:
+            self.error(node, "a tuple has at least two parts")
+            return ast.Literal(ERROR, p, 0)
+        if any(isinstance(x.type, ast.ErrorType) for x in items):
+            return ast.TupleLiteral(ERROR, p, tuple(items))
+        return ast.TupleLiteral(ast.ProductType(tuple(x.type for x in items)), p, tuple(items))
+
+    def _x_index_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        value = self.expr(node.children[0])
+        indices = node.children[1].children
+        if len(indices) != 1:
+            self.error(node, "unsupported: indexing with more than one index (matrices)")
+            return ast.Literal(ERROR, p, 0)
+        index = self.expr(indices[0])
+        t = value.type
+        if isinstance(t, ast.ErrorType) or isinstance(index.type, ast.ErrorType):
+            return ast.Index(ERROR, p, value, index)
+        if isinstance(t, ast.SeqType):
+            if index.type not in (ast.NAT, ast.INT):
+                self.error(indices[0], f"type error: a sequence's index must be an integer, but this is {index.type}")
+            return ast.Index(t.element, p, value, index)
+        if isinstance(t, ast.ProductType):
+            if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
+                self.error(indices[0], f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
+                return ast.Index(ERROR, p, value, index)
+            assert isinstance(index.value, int)
+            return ast.Index(t.parts[index.value - 1], p, value, index)
+        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
+        return ast.Index(ERROR, p, value, index)
+
+    def _x_cat_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        left, right = self.expr(node.children[0]), self.expr(node.children[1])
+        return self._builtin(node, p, "concat", [left, right])
+
+    def _x_in_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        member, collection = self.expr(node.children[0]), self.expr(node.children[1])
+        return self._builtin(node, p, "in", [member, collection])
+
+    def _toolkit_call(self, node: Tree, p: Pos, name: str, args: list[ast.Expr]) -> ast.Expr:
+        if len(args) != TOOLKIT_FUNCTIONS[name]:
+            self.error(node, f"'{name}' takes {TOOLKIT_FUNCTIONS[name]} argument(s), but {len(args)} given")
+            return ast.Literal(ERROR, p, 0)
+        return self._builtin(node, p, name, args)
+
+    def _builtin(self, node: Tree, p: Pos, op: str, args: list[ast.Expr]) -> ast.Expr:
+        """A built-in operation on sequences and sets, type-checked."""
+        if any(isinstance(a.type, ast.ErrorType) for a in args):
+            return ast.Builtin(ERROR, p, op, tuple(args))
+        t = builtin_type(op, [a.type for a in args])
+        if t is None:
+            self.error(node, f"type error: '{op}' cannot take {', '.join(str(a.type) for a in args)}")
+            return ast.Builtin(ERROR, p, op, tuple(args))
+        if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "filter", "prefix") and \
+                isinstance(args[0].type, (ast.SeqType, ast.SetType)):
+            args = [conform(a, t if op in ("concat", "union", "inter", "diff") else a.type) for a in args]
+            if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "prefix"):
+                args = [conform(a, args[0].type) for a in args]
+        if op in ("in", "notin"):
+            element = args[1].type.element  # type: ignore[attr-defined]
+            args = [conform(args[0], element), args[1]]
+        return ast.Builtin(t, p, op, tuple(args))
+
+    def _x_let_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        *decls, body_node = node.children
+        saved = dict(self.scope.variables)
+        bound: list[tuple[ast.Variable, ast.Expr]] = []
+        try:
+            for d in decls:
+                name = str(d.children[0])
+                value = self.expr(d.children[1])
+                var = ast.Variable(name, value.type, True, f"{self.scope.owner}::let@{p.line}:{p.column}",
+                                   self.pos(d.children[0]), None, "let")
+                self.scope.variables[name] = var
+                bound.append((var, value))
+            body = self.expr(body_node)
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        for var, value in reversed(bound):
+            body = ast.Let(body.type, p, var, value, body)
+        return body
 
     def _x_since_expr(self, node: Tree, p: Pos) -> ast.Expr:
         name = qname_text(node.children[0])
@@ -384,6 +512,7 @@ class ExprChecker:
             return event, "input", var, None
         value = self.expr(node.children[1])
         if event is not None:
+            value = conform(value, event.type) if event.type is not None else value
             self._check_value(node.children[1], event, value)
         return event, ("output" if kind == "comm_output" else "sync"), None, value
 
@@ -497,6 +626,7 @@ class ExprChecker:
             fname = qname_text(part)
             target = self._select_known(target, fname, part)
             fields.append(fname)
+        value = conform(value, target.type)
         if not ast.assignable(target.type, value.type):
             self.error(node.children[1], f"type error: cannot assign {value.type} to "
                        f"'{'.'.join([name, *fields])}' of type {target.type}")
@@ -525,6 +655,59 @@ class ExprChecker:
             return ast.Skip(p)
         args = self._arguments(node, name, args_nodes, op.parameters)
         return ast.OperationCall(p, op, args)
+
+
+def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:
+    """`e` retyped for a place of type `t` where it is a literal whose items fit: `<1, 2>` in a
+    `Seq(real)` place is a sequence of reals, `<>` in a `Seq(nat)` place a sequence of naturals."""
+    if isinstance(e, ast.SeqLiteral) and isinstance(t, ast.SeqType) or \
+            isinstance(e, ast.SetLiteral) and isinstance(t, ast.SetType):
+        items = tuple(conform(x, t.element) for x in e.items)  # type: ignore[union-attr]
+        if all(ast.assignable(t.element, x.type) for x in items):  # type: ignore[union-attr]
+            return type(e)(t, e.pos, items)
+    if isinstance(e, ast.TupleLiteral) and isinstance(t, ast.ProductType) and len(t.parts) == len(e.items):
+        items = tuple(conform(x, pt) for x, pt in zip(e.items, t.parts, strict=True))
+        if all(ast.assignable(pt, x.type) for x, pt in zip(items, t.parts, strict=True)):
+            return ast.TupleLiteral(t, e.pos, items)
+    if isinstance(e, ast.Literal) and t == REAL and e.type in (NAT, ast.INT) and type(e.value) is int:
+        return e  # integers fit real places as they are (the encoders convert)
+    return e
+
+
+def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
+    """The type of a built-in operation on arguments of these types, or None when it does not apply."""
+    a = args[0]
+    b = args[1] if len(args) > 1 else None
+    seq = isinstance(a, ast.SeqType)
+    if op == "size" and isinstance(a, ast.SetType):
+        return NAT
+    if op in ("size", "isNonEmpty", "head", "last", "tail", "front", "reverse", "dom", "ran", "elems"):
+        if not seq:
+            return None
+        assert isinstance(a, ast.SeqType)
+        return {"size": NAT, "isNonEmpty": BOOLEAN, "head": a.element, "last": a.element, "dom": ast.SetType(NAT),
+                "ran": ast.SetType(a.element), "elems": ast.SetType(a.element)}.get(op, a)
+    if op in ("concat", "prefix"):
+        if seq and isinstance(b, ast.SeqType) and (ast.assignable(a, b) or ast.assignable(b, a)):
+            if op == "prefix":
+                return BOOLEAN
+            return b if isinstance(a.element, ast.AnyElement) else a  # type: ignore[attr-defined]
+        return None
+    if op == "filter":
+        if seq and isinstance(b, ast.SetType) and ast.comparable(a.element, b.element):  # type: ignore[attr-defined]
+            return a
+        return None
+    if op in ("union", "inter", "diff", "subseteq", "subset"):
+        if isinstance(a, ast.SetType) and isinstance(b, ast.SetType) and (ast.assignable(a, b) or ast.assignable(b, a)):
+            if op in ("subseteq", "subset"):
+                return BOOLEAN
+            return b if isinstance(a.element, ast.AnyElement) else a
+        return None
+    if op in ("in", "notin"):
+        if isinstance(b, ast.SetType) and ast.comparable(b.element, a):
+            return BOOLEAN
+        return None
+    return None
 
 
 def _name_tree(qn: Tree) -> Tree:

@@ -25,9 +25,13 @@ class Ranges:
 
     by_type: dict[str, Range] = field(default_factory=dict)
     by_path: dict[str, Range] = field(default_factory=dict)
+    # Names (types or paths, as above) whose bounds are parameters: symbols rather than numbers,
+    # so that one query covers every range (`tockbmc explore`).  They win over a range of the same name.
+    parametric: tuple[str, ...] = ()
 
     def describe(self) -> dict[str, str]:
-        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()}}
+        return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()},
+                **{k: "parameter" for k in self.parametric}}
 
 
 TYPE_RANGE_NAMES = {"int": "core_int", "nat": "core_nat", "real": "core_real"}

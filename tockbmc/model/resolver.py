@@ -26,13 +26,10 @@ T = TypeVar("T")
 BUILTIN_TYPES = {"int": INT, "nat": NAT, "real": REAL, "boolean": BOOLEAN, "string": STRING}
 
 UNSUPPORTED_TYPES = {
-    "set_type": "set types",
-    "seq_type": "sequence types",
     "vector_type": "vectors and matrices",
     "matrix_type": "vectors and matrices",
     "function_type": "function types (lambda)",
     "relation_type": "relation types (toolkits)",
-    "product_type": "tuples (product types)",
     "any_type": "generic types ('?T')",
 }
 
@@ -129,7 +126,8 @@ class Resolver:
             for item in children(tree, "import_decl"):
                 target = qname_text(item.children[0])
                 if target.split("::")[0] in TOOLKITS:
-                    self.error(path, item.children[0], f"unsupported: toolkits ('{target}')")
+                    # Their functions are built in (`expressions.TOOLKIT_FUNCTIONS`); others are
+                    # reported where they are called.
                     self._scopes[path].toolkit = True
                 elif len(item.children) > 1 and not any(p == target or p.startswith(target + "::") for p in packages):
                     self.report(pos_of(path, item.children[0]),
@@ -145,6 +143,16 @@ class Resolver:
         if node.data in UNSUPPORTED_TYPES:
             self.error(scope.path, node, f"unsupported: {UNSUPPORTED_TYPES[node.data]}")
             return ERROR
+        if node.data in ("seq_type", "set_type"):
+            element = self.type_of(scope, node.children[0])
+            if isinstance(element, ast.ErrorType):
+                return ERROR
+            return ast.SeqType(element) if node.data == "seq_type" else ast.SetType(element)
+        if node.data == "product_type":
+            parts = [self.type_of(scope, c) for c in node.children]
+            if any(isinstance(p, ast.ErrorType) for p in parts):
+                return ERROR
+            return ast.ProductType(tuple(parts))
         if node.data != "named_type":  # parenthesised types are inlined by the grammar
             self.error(scope.path, node, f"unsupported: type '{node.data}'")
             return ERROR
@@ -253,7 +261,7 @@ class Resolver:
                 if checker is None:
                     checker = self.checker(scope, Scope(scope.path, owner))
                 initial = checker.expr(v.children[2])
-                checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'")
+                initial = checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'")
             result.append(ast.Variable(str(name), vtype, constant, owner, pos_of(scope.path, name), initial, kind))
         return result
 

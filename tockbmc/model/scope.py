@@ -31,7 +31,7 @@ class FileScope:
     package: str | None
     wildcard_imports: list[str] = field(default_factory=list)
     exact_imports: list[str] = field(default_factory=list)
-    toolkit: bool = False  # imports a RoboChart toolkit (unsupported)
+    toolkit: bool = False  # imports a RoboChart toolkit: its functions are built in
 
     def qualify(self, name: str) -> str:
         return f"{self.package}::{name}" if self.package else name

@@ -168,7 +168,7 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
     failures = a.semantic_model in FAILURES_MODELS
-    if impl is left or a.kind == "equals":  # `Q equals M` is M refines Q too
+    if impl is left or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
         spec_text = spec_name or ""
         goals = _failures_goals(a, name, spec_text) if failures else (_refinement_goal(a, name, spec_text),)
     inclusion = a.kind == "equals" or impl is right
@@ -204,6 +204,7 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
 
 
 def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
+    """Every trace of the model `name` is one of the specification `spec` (a monitor beside the model)."""
     def violated(system: TransitionSystem) -> z3.BoolRef:
         assert isinstance(system.extension, MonitorExtension)
         return system.extension.violated(system)

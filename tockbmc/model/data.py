@@ -1,0 +1,45 @@
+"""Python values of sequences, sets and tuples, shared by the interpreter and the witness decoder.
+
+A sequence is a Python `tuple`, a set a `frozenset`, a tuple (product) a `Product` (a tuple kept
+apart from sequences, so that each prints as RoboChart and FDR write it: `<1, 2>`, `{1, 2}`,
+`(1, 2)`).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from tockbmc.model import ast
+from tockbmc.model.numbers import int_text, real_text
+
+
+class Product(tuple):
+    """A tuple value `(| a, b |)`: its parts in order."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "Product(" + tuple.__repr__(self) + ")"
+
+
+def text_of(t: ast.Type | None, v: object) -> str:
+    """FDR-style text of a value of type `t`."""
+    if isinstance(v, dict):
+        fields = [f.name for f in t.fields] if isinstance(t, ast.RecordType) else list(v)
+        ftype = (lambda n: t.field_type(n)) if isinstance(t, ast.RecordType) else (lambda n: None)
+        return "(" + ", ".join(f"{n}={text_of(ftype(n), v[n])}" for n in fields) + ")"
+    if isinstance(v, Product):
+        ts = t.parts if isinstance(t, ast.ProductType) else (None,) * len(v)
+        return "(" + ", ".join(text_of(pt, x) for pt, x in zip(ts, v, strict=True)) + ")"
+    element = t.element if isinstance(t, (ast.SeqType, ast.SetType)) else None
+    if isinstance(v, tuple):
+        return "<" + ", ".join(text_of(element, x) for x in v) + ">"
+    if isinstance(v, frozenset):
+        return "{" + ", ".join(sorted(text_of(element, x) for x in v)) + "}"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, Fraction):
+        return real_text(v)
+    if isinstance(v, int):
+        return int_text(v)
+    return str(v)
