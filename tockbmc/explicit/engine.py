@@ -497,8 +497,9 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
         return result(Verdict.UNKNOWN, f"{q.spec_name} has too many traces of {wanted} events")
     for t in traces:
         if not _performs(search, t):
-            shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
-                                    f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(t.events))
+            names = [_event_text(e) for e in t.events] + (["✓"] if t.ticks else [])  # as BMC's inclusion shows it
+            shown = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {q.spec_name}", {}, {})
+                          for j, e in enumerate(names))
             verdict = Verdict.HOLDS if a.negated else Verdict.VIOLATED
             return result(verdict, f"{q.spec_name} has this trace{' and then terminates' if t.ticks else ''}, "
                                    f"and {q.element.name} cannot perform it", shown)
@@ -544,7 +545,8 @@ def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Calla
         if not search.complete:
             return result(Verdict.UNKNOWN, f"{what} was not found refusing everything else in a stable configuration "
                                            f"within {search.bound} visible steps", shown)
-        if a.semantic_model == "failures divergences" and search.nearest_cycle(lambda s: s.kind == "internal"):
+        if a.semantic_model == "failures divergences" and search.cycle(lambda s: s.kind == "internal",
+                                                                         lambda k: True) is not None:
             return result(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest, but it can diverge, "
                                            "which in the failures-divergences model allows every refusal", shown)
         return result(Verdict.HOLDS if a.negated else Verdict.VIOLATED,

@@ -211,7 +211,8 @@ class SpecRefusal:
 
 def spec_refusals(mon: Monitor, sem: Semantics, channels: list[Channel], traces: list[tuple[tuple, ...]]
                   ) -> list[SpecRefusal]:
-    """The stable refusals of the specification after every prefix of `traces` (each once)."""
+    """The stable refusals of the specification after every prefix of `traces` (each once), the
+    shortest traces first (so both engines report a missing refusal after the fewest events)."""
     out: dict[tuple, SpecRefusal] = {}
     for t in traces:
         state = mon.initial
@@ -224,7 +225,7 @@ def spec_refusals(mon: Monitor, sem: Semantics, channels: list[Channel], traces:
                 key = (t[:n], frozenset(acc))
                 if key not in out:
                     out[key] = SpecRefusal(t[:n], state, acc)
-    return list(out.values())
+    return sorted(out.values(), key=lambda r: (len(r.events), repr(r.events)))
 
 
 def accepted(o: Offer, channels: list[Channel], values: list, named: list[list[object]]) -> z3.BoolRef:
