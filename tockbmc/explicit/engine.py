@@ -558,7 +558,23 @@ def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Calla
 def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bool:
     """Whether the element can perform r's events and then be stable, short of termination, offering
     only events of r's acceptance."""
-    names = [_event_text(e) for e in r.events]
+    def end(config: Config, steps: list[Edge]) -> bool:
+        return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
+                and all(checker.within(r, e.step) for e in steps))
+
+    return _runs_to(search, r.events, end)
+
+
+def _performs(search: Search, t: SpecTrace) -> bool:
+    """Whether the element can perform the visible events of t in order (internal steps between),
+    terminating at the end if t does; raises MemoryError past the state limit."""
+    return _runs_to(search, t.events, lambda config, steps: not t.ticks or search.interp.terminated(config))
+
+
+def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, list[Edge]], bool]) -> bool:
+    """Whether some run performs `events` in order (internal steps between) and ends in a
+    configuration for which `end` holds (given its steps); raises MemoryError past the state limit."""
+    names = [_event_text(e) for e in events]
     start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
     seen = set(start)
     todo = deque(start)
@@ -566,40 +582,9 @@ def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bo
         node_key, i = todo.popleft()
         config = cast("tuple[Config, None]", node_key)[0]
         steps = search.steps((config, None))
-        if i == len(names) and not search.interp.terminated(config) and not any(
-                e.step.kind == "internal" for e in steps) and all(
-                checker.within(r, e.step) for e in steps):
+        if i == len(names) and end(config, steps):
             return True
         for step, nxt, _ in steps:
-            node: tuple[Hashable, int]
-            if step.kind == "internal":
-                node = (nxt, i)
-            elif i < len(names) and (step.kind == "tock" and names[i] == "tock" or
-                                     step.event is not None and step.event.name == names[i]):
-                node = (nxt, i + 1)
-            else:
-                continue
-            if node not in seen:
-                if len(seen) >= search.max_states:
-                    raise MemoryError
-                seen.add(node)
-                todo.append(node)
-    return False
-
-
-def _performs(search: Search, t: SpecTrace) -> bool:
-    """Whether the element can perform the visible events of t in order (internal steps between),
-    terminating at the end if t does; raises MemoryError past the state limit."""
-    names = [_event_text(e) for e in t.events]
-    start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
-    seen = set(start)
-    todo = deque(start)
-    while todo:
-        node_key, i = todo.popleft()
-        config = cast("tuple[Config, None]", node_key)[0]
-        if i == len(names) and (not t.ticks or search.interp.terminated(config)):
-            return True
-        for step, nxt, _ in search.steps((config, None)):
             node: tuple[Hashable, int]
             if step.kind == "internal":
                 node = (nxt, i)

@@ -14,6 +14,9 @@ result must be divergence-free, so only "time passes for ever and nothing else" 
 
 from __future__ import annotations
 
+from collections.abc import Hashable, Iterable, Mapping
+from typing import TypeVar
+
 import z3
 
 from tockbmc.encodings import names
@@ -22,6 +25,8 @@ from tockbmc.encodings.terms import quantified
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.properties.goals import Goal, true_at
+
+N = TypeVar("N", bound=Hashable)
 
 
 def _nothing_ever(system: TransitionSystem) -> z3.BoolRef:
@@ -133,7 +138,7 @@ def _abstract_cycle(system: TransitionSystem, limit: int) -> bool:
                     return True  # too many to tell: search for a lasso
                 seen.add(nxt)
                 todo.append(nxt)
-    return _has_cycle(internal)  # type: ignore[arg-type]
+    return _has_cycle(internal)
 
 
 def _machine_cycle(system: TransitionSystem) -> bool:
@@ -149,8 +154,9 @@ def _machine_cycle(system: TransitionSystem) -> bool:
     return False
 
 
-def _has_cycle(graph: dict[int, set[int]]) -> bool:
-    done: set[int] = set()
+def _has_cycle(graph: Mapping[N, Iterable[N]]) -> bool:
+    """Whether the directed graph (node -> successors) has a cycle."""
+    done: set[N] = set()
     for root in graph:
         if root in done:
             continue

@@ -30,10 +30,10 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import domain, equal, fresh, leaves
 from tockbmc.model.csp import CspError
 from tockbmc.model.errors import Unsupported
-from tockbmc.properties.deadlock import _without_quantifier
+from tockbmc.properties.deadlock import _has_cycle, _without_quantifier
 from tockbmc.properties.goals import number_at, true_at
 from tockbmc.properties.process import MonitorExtension, _event_text, field_is
-from tockbmc.properties.spec import ANY, OTHER, TOCK, Channel, Input, Monitor, Proc, Semantics, TooLarge, _extends
+from tockbmc.properties.spec import ANY, OTHER, TOCK, Channel, Input, Monitor, Semantics, TooLarge, _extends
 
 FAILURES_MODELS = ("failures", "failures divergences")
 FOREIGN = ("a channel outside the model's alphabet",)  # an event no implementation channel carries
@@ -94,22 +94,8 @@ def offer_text(channels: list[Channel], o: Offer) -> str:
 def divergent_state(mon: Monitor, sem: Semantics) -> int | None:
     """A monitor state (all reachable ones explored) whose terms have a cycle of internal steps."""
     for s, terms in enumerate(mon.states):
-        graph = {p: [sem.force(q) for q in sem.taus(p)] for p in terms}
-        done: set[Proc] = set()
-        for root in graph:
-            path, stack = {root}, [(root, iter(graph[root]))]
-            while stack:
-                node, children = stack[-1]
-                child = next(children, None)
-                if child is None:
-                    stack.pop()
-                    path.discard(node)
-                    done.add(node)
-                elif child in path:
-                    return s
-                elif child not in done and child in graph:
-                    path.add(child)
-                    stack.append((child, iter(graph[child])))
+        if _has_cycle({p: {sem.force(q) for q in sem.taus(p)} for p in terms}):
+            return s
     return None
 
 
