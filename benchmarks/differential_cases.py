@@ -198,6 +198,8 @@ class Outcome:
 
 
 def _definite_bmc(r: Result) -> str | None:
+    if r.verdict not in ("holds", "violated"):  # an unknown may show the trace it could not decide
+        return None
     if r.trace:
         return f"found:{r.verdict}"
     if r.proof.every_length:
@@ -206,6 +208,8 @@ def _definite_bmc(r: Result) -> str | None:
 
 
 def _definite_explicit(r: Result) -> str | None:
+    if r.verdict not in ("holds", "violated"):
+        return None
     if r.trace:
         return f"found:{r.verdict}"
     if r.proof == Proof.EXHAUSTIVE:

@@ -796,32 +796,11 @@ def is_state(machine: str, active: str, state: str) -> bool:
 def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) -> list[tuple[tuple, int]]:
     """Channels the element might show, over-approximated (so specifications can be probed with them):
     every event of the element and of its machines in both directions, its calls and `terminate`."""
-    name = element.name
-    machines: list[ast.StateMachine] = []
-    events: list[tuple[str, ast.Event]] = []
-    if isinstance(element, ast.StateMachine):
-        machines = [element]
-    elif isinstance(element, ast.Controller):
-        machines = [m.machine for m in element.machines]
-        events += [(name, e) for e in element.events]
-    else:
-        for ci in element.controllers:
-            machines += [m.machine for m in ci.controller.machines]
-            events += [(ci.controller.name, e) for e in ci.controller.events]
-        if element.platform is not None:
-            events += [(name, e) for e in element.platform.events]
-    out: list[tuple[tuple, int]] = [((f"{name}::terminate",), 0)]
-    for m in machines:
-        events += [(m.name, e) for e in m.events]
-        out += [(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),), len(op.parameters)) for op in m.operations]
-    for owner, e in events:
-        channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
-        out += [((channel, d), int(e.type is not None)) for d in ("in", "out")]
-    return list(dict.fromkeys(out))
+    return [(prefix, len(types)) for prefix, types in element_types(element).items()]
 
 
 def element_types(element: ast.StateMachine | ast.Controller | ast.Module) -> dict[tuple, tuple[ast.Type, ...]]:
-    """The value types of each channel of `element_alphabet`."""
+    """The channels of `element_alphabet`, each with the types of its values."""
     name = element.name
     machines: list[ast.StateMachine] = []
     events: list[tuple[str, ast.Event]] = []

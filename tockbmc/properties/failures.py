@@ -60,7 +60,7 @@ def acceptances(mon: Monitor, sem: Semantics, state: int, channels: list[Channel
             offers.append(Offer(None))
         for c, ch in enumerate(channels):
             try:
-                classes = [()] if ch.arity == 0 else _classes(mon, state, ch)
+                classes = mon.values(state, ch)
             except TooLarge:
                 raise Unsupported(None, "the specification names too many values of one channel to compare "
                                         "refusals") from None
@@ -73,15 +73,6 @@ def acceptances(mon: Monitor, sem: Semantics, state: int, channels: list[Channel
                 break
         out.append(tuple(dict.fromkeys(offers)))
     return out
-
-
-def _classes(mon: Monitor, state: int, ch: Channel) -> list[tuple]:
-    combos: list[tuple] = [()]
-    for named in mon.fields(state, ch):
-        combos = [(*c, v) for c in combos for v in (*named, OTHER)]
-        if len(combos) > 256:
-            raise TooLarge
-    return combos
 
 
 def offer_text(channels: list[Channel], o: Offer) -> str:
