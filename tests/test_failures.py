@@ -108,7 +108,9 @@ untimed assertion F7: L refines RunA in the failures model.
                             "F4": "holds", "F5": "violated", "F6": "violated", "F7": "holds"}, rs
         assert [s.event for s in rs["F1"].trace if s.kind != "internal"] == []
         assert "every stable state of Ext" in (rs["F1"].reason or "")
-        assert "P::c.out.2" in (rs["F5"].reason or "")
+        assert "P::c.out.2" in (rs["F5"].reason or "") and rs["F5"].extra["refusal"] == ["P::c.out.2"]
+        assert rs["F1"].extra["refusal"] in (["M::a.in"], ["M::b.in"])  # whichever branch M took
+        assert rs["F3"].extra["refusal"] == ["P::c.out.…"]  # a value of c that AnyC accepts and P refuses
         assert "divergence" in (rs["F6"].reason or "")
 
 

@@ -205,7 +205,9 @@ class _Check:
         if goal.found == Verdict.HOLDS and self.reasons:  # earlier goals found nothing wrong
             why = "; ".join([*self.reasons, f"witness: {why}"])
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
-        extra = {"replayed": replayed}
+        extra: dict[str, object] = {"replayed": replayed}
+        if goal.details is not None:
+            extra.update(goal.details(u, model, outcome.depth))
         if outcome.reason:  # `shortest="events"` could not finish
             extra["shortest"] = outcome.reason
         return self.result(goal.found, why, proof=Proof.TRACE, depth=outcome.depth, trace=trace, extra=extra)

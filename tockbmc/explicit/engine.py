@@ -439,8 +439,9 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
     constants: dict[str, str] = {}
     sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
 
-    def result(verdict: Verdict, reason: str, trace: tuple = ()) -> Result:
+    def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
+        extra.update(more or {})
         if trace:
             proof = Proof.TRACE
         elif verdict in (Verdict.HOLDS, Verdict.VIOLATED):  # shown by the search having run out
@@ -682,7 +683,8 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 offers = sorted({_label(e.step) for e in search.steps(hit[0]) if e.step.kind != "internal"})
                 return result(verdict, f"{name} is stable and offers only {', '.join(offers) or 'nothing'}; every "
                                        f"stable state of {spec} after this trace accepts an event the model refuses "
-                                       f"({'; '.join(sorted(set(refused[hit[0]])))})", head + trace)
+                                       f"({'; '.join(sorted(set(refused[hit[0]])))})", head + trace,
+                              {"refusal": sorted(set(refused[hit[0]]))})
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
         if refusals is not None and a.semantic_model == "failures divergences":
             loop = search.nearest_cycle(lambda s: s.kind == "internal")

@@ -155,22 +155,28 @@ class Refusals:
             cases.append(z3.And(mon == s, *[z3.Or([self.refuses(system, s, o) for o in acc]) for acc in accs]))
         return z3.And(z3.Not(system.internal_enabled()), z3.Not(system.halted()), z3.Or(cases or [z3.BoolVal(False)]))
 
-    def describe(self, unroller: Unroller, model: z3.ModelRef, k: int, spec_name: str) -> str:
+    def refused(self, unroller: Unroller, model: z3.ModelRef, k: int) -> list[str]:
+        """Per stable term of the specification where the run ends, a class it accepts that the element refuses."""
         system = unroller.system
         s = number_at(unroller, model, system.cur[names.MONITOR], k)
-        offered = sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
-                          if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
         refused = []
         for acc in self.accept.get(s, []):
             o = next((o for o in acc if true_at(unroller, model, self.refuses(system, s, o), k)), None)
             if o is not None:
                 refused.append(offer_text(self.ext.channels, o))
+        return sorted(set(refused))
+
+    def describe(self, unroller: Unroller, model: z3.ModelRef, k: int, spec_name: str) -> str:
+        system = unroller.system
+        offered = sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
+                          if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
+        refused = self.refused(unroller, model, k)
         shown = ", ".join(offered) if offered else "nothing"
         if not refused:
             return (f"{system.name} is stable and offers {shown}, and {spec_name} has no stable state after this "
                     "trace, so it cannot refuse what the model refuses")
         return (f"{system.name} is stable and offers only {shown}; every stable state of {spec_name} after this trace "
-                f"accepts an event the model refuses ({'; '.join(sorted(set(refused)))})")
+                f"accepts an event the model refuses ({'; '.join(refused)})")
 
 
 # ------------------------------------------------------------------ the specification refining the model

@@ -47,6 +47,7 @@ class Goal:
     # attempted and only the bounded search counts), or None when it would.
     unprovable: Callable[[TransitionSystem], str | None] | None = None
     failures: bool = False  # a refusal the specification cannot make is among the targets (the replay checks it)
+    details: Callable[[Unroller, z3.ModelRef, int], dict[str, object]] | None = None  # more for the result
 
     @staticmethod
     def violation(target: Target, describe: Describe, **more: object) -> Goal:

@@ -265,11 +265,16 @@ def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
             return describe(unroller, model, k)
         return _describe_divergence(unroller, model, k)
 
+    def details(unroller: Unroller, model: z3.ModelRef, k: int) -> dict[str, object]:
+        if true_at(unroller, model, refused(unroller.system), k):
+            return {"refusal": refusals(unroller.system).refused(unroller, model, k)}
+        return {}
+
     if a.negated:
         more: dict[str, object] = dict(prepare=watch_loops, unprovable=unbounded_loops) if divergences else {}
         return (Goal.witness(either, which, sought=f"a trace, refusal or divergence {spec} does not allow",
-                             claim=claim, failures=True, **more),)
-    goals: tuple[Goal, ...] = (Goal.violation(either, which, claim=claim, failures=True),)
+                             claim=claim, failures=True, details=details, **more),)
+    goals: tuple[Goal, ...] = (Goal.violation(either, which, claim=claim, failures=True, details=details),)
     if divergences:
         goals += divergence_goals(name, False)
     return goals
