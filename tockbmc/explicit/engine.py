@@ -38,6 +38,7 @@ from tockbmc.properties.failures import (
     acceptances,
     divergent_state,
     offer_text,
+    refuse_context,
     spec_refusals,
 )
 from tockbmc.properties.goals import Query
@@ -636,6 +637,8 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             return "after" if rests[state] is not None else None
 
         refusals = ConcreteRefusals(interp, q, monitor) if a.semantic_model in FAILURES_MODELS else None
+        if refusals is not None:
+            refuse_context(context.impl)
         if refusals is not None and a.semantic_model == "failures divergences":
             assert context.spec is not None
             whole = Monitor(context.sem, context.spec, refusals.channels)  # every reachable state, to look for divergence

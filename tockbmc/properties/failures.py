@@ -32,7 +32,7 @@ from tockbmc.model.csp import CspError
 from tockbmc.model.errors import Unsupported
 from tockbmc.properties.deadlock import _has_cycle, _without_quantifier
 from tockbmc.properties.goals import number_at, true_at
-from tockbmc.properties.process import MonitorExtension, _event_text, field_is
+from tockbmc.properties.process import Implementation, MonitorExtension, _event_text, field_is
 from tockbmc.properties.spec import ANY, OTHER, TOCK, Channel, Input, Monitor, Semantics, TooLarge, _extends
 
 FAILURES_MODELS = ("failures", "failures divergences")
@@ -90,18 +90,24 @@ def divergent_state(mon: Monitor, sem: Semantics) -> int | None:
     return None
 
 
+def refuse_context(impl: Implementation) -> None:
+    """The failures check covers the element's own configurations: not a prefix before it, nor a
+    process after its termination."""
+    if impl.head:
+        raise Unsupported(None, "refinement in the failures models is not supported when a prefix comes before "
+                                "the model")
+    if impl.continues:
+        raise Unsupported(None, "refinement in the failures models is not supported when a process follows the "
+                                "model's termination")
+
+
 class Refusals:
     """The failures check beside a specification monitor (`MonitorExtension`) in BMC."""
 
     def __init__(self, ext: MonitorExtension, divergences: bool, spec_name: str):
         self.ext = ext
         mon, sem = ext.monitor, ext.context.sem
-        if ext.context.impl.head:
-            raise Unsupported(None, "refinement in the failures models is not supported when a prefix comes "
-                                    "before the model")
-        if ext.context.impl.continues:
-            raise Unsupported(None, "refinement in the failures models is not supported when a process follows "
-                                    "the model's termination")
+        refuse_context(ext.context.impl)
         self.accept = {s: acceptances(mon, sem, s, ext.channels) for s in range(ext.count)}
         if divergences:
             s = divergent_state(mon, sem)
