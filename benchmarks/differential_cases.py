@@ -120,14 +120,15 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
 
 
 def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False,
-                    untimed: bool = False) -> str:
+                    untimed: bool = False, timed: bool = True) -> str:
     """Nine assertions of M; with `specs`, also four refinements of specifications that tell some
     values of M's events apart (an input, an output, a call), after the nine; with `untimed`, the
-    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12)."""
+    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12);
+    `timed=False` leaves the nine out."""
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
              f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates",
              "M is divergence-free", "M is deterministic"]
-    text = "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms))
+    text = "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms)) if timed else ""
     if specs:
         text += SPECS
     if untimed:
