@@ -140,16 +140,56 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
     return [*lines, "  }"]
 
 
-def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False) -> str:
+def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False,
+                    untimed: bool = False, timed: bool = True) -> str:
     """Nine assertions of M; with `specs`, also four refinements of specifications that tell some
-    values of M's events apart (an input, an output, a call), after the nine."""
+    values of M's events apart (an input, an output, a call), after the nine; with `untimed`, the
+    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12);
+    `timed=False` leaves the nine out."""
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
              f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates",
              "M is divergence-free", "M is deterministic"]
-    text = "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms))
+    text = "".join(f"assertion A{k}: {f}.\n" for k, f in enumerate(forms)) if timed else ""
     if specs:
         text += SPECS
+    if untimed:
+        reach = f"{pick(states)} is reachable in M"
+        text += "".join(f"untimed assertion U{k}: {f}.\n" for k, f in enumerate(UNTIMED + [reach]))
+        text += FAILURES
     return text
+
+
+UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is divergence-free",
+           "M is deterministic", "M is not deadlock-free"]
+
+# Specifications over every channel of M: `Any` is stable only in states accepting one channel
+# (every value of it), so M refines it in the failures model exactly where, stable and short of
+# termination, M offers every value of some channel; `AnyOrStop` may also refuse everything at the
+# start; `Ext` accepts every channel at once; `TAny`, in a Timed section, also accepts tock.  `Few`
+# and `Stopped` refine M (the specification on the left) where M has their traces and refusals.
+FAILURES = """csp FSpecs csp-begin
+Any = (M::a.in?x -> Any) |~| (M::b.out?x -> Any) |~| (M::c.in -> Any) |~| (M::c.out -> Any)
+      |~| (M::opCall?x -> Any) |~| (M::terminate -> SKIP)
+AnyOrStop = Any |~| STOP
+Few = (M::c.in -> STOP) |~| (M::a.in.0 -> STOP) |~| (M::terminate -> SKIP)
+Stopped = STOP
+Ext = (M::a.in?x -> Ext) [] (M::b.out?x -> Ext) [] (M::c.in -> Ext) [] (M::c.out -> Ext)
+      [] (M::opCall?x -> Ext) [] (M::terminate -> SKIP)
+csp-end
+timed csp TSpecs csp-begin
+Timed(OneStep) {
+  TAny = (M::a.in?x -> TAny) |~| (M::b.out?x -> TAny) |~| (M::c.in -> TAny) |~| (M::c.out -> TAny)
+         |~| (M::opCall?x -> TAny) |~| (M::terminate -> SKIP)
+}
+csp-end
+untimed assertion F0: M refines Any in the failures model.
+untimed assertion F1: M refines AnyOrStop in the failures divergences model.
+untimed assertion F2: M refines Ext in the failures model.
+untimed assertion F3: M does not refine Any in the failures divergences model.
+timed assertion F4: M refines TAny in the failures model.
+untimed assertion F5: Few refines M in the failures model.
+untimed assertion F6: Stopped refines M in the failures divergences model.
+"""
 
 
 # Each names values of one of M's channels (its input a, its output b, its call op), and lets M
@@ -180,6 +220,8 @@ class Outcome:
 
 
 def _definite_bmc(r: Result) -> str | None:
+    if r.verdict not in ("holds", "violated"):  # an unknown may show the trace it could not decide
+        return None
     if r.trace:
         return f"found:{r.verdict}"
     if r.proof.every_length:
@@ -188,6 +230,8 @@ def _definite_bmc(r: Result) -> str | None:
 
 
 def _definite_explicit(r: Result) -> str | None:
+    if r.verdict not in ("holds", "violated"):
+        return None
     if r.trace:
         return f"found:{r.verdict}"
     if r.proof == Proof.EXHAUSTIVE:
@@ -275,11 +319,13 @@ def _visible(r: Result) -> int:
     return sum(1 for s in r.trace if s.kind != "internal")
 
 
-def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False) -> tuple[str, str]:
+def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
+                untimed: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
-    with `specs`, refinements of specifications too (`assertions_text`); with `data`, a machine
-    with sequences, sets and tuples (`data_machine_text`; check it with `DATA_RANGES`)."""
+    with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms
+    (`assertions_text`); with `data`, a machine with sequences, sets and tuples (`data_machine_text`;
+    check it with `DATA_RANGES`)."""
     rng = random.Random(seed)
     make = data_machine_text if data else network_text if rng.random() < controllers else machine_text
     rct, states = make(rng.choice, rng.randint)
-    return rct, assertions_text(states, rng.choice, specs)
+    return rct, assertions_text(states, rng.choice, specs, untimed)

@@ -77,7 +77,7 @@ def test_cli_json_and_exit_status() -> None:
 
 def test_cli_unsupported_only_exits_20(tmp_path) -> None:
     machine(tmp_path, "stm M {\n initial i\n state s {}\n transition t { from i to s }\n}\n",
-            "untimed assertion U: M is deadlock-free.\n")
+            "untimed assertion U: M is timelock-free.\n")
     result = CliRunner().invoke(cli, ["check", str(tmp_path)])
     assert result.exit_code == 20, result.output
 

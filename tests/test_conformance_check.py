@@ -29,6 +29,15 @@ DIFFERENCES = {
                     "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes; and with x at 0, M "
                     "terminates with S1 (semantics.md §5.6: with its first machine) before S2's e2 output, "
                     "where TSpec's SKIP follows e2 (RoboTool's M terminates with its last machine)"),
+    ("test8", "A1"): (
+        "violated", "untimed, for the two reasons of A2: x starts at any value of core_nat (M outputs e1.1 first), "
+                    "and with x at 0 M terminates with S1 before S2's e2 output, where Spec's SKIP follows e2"),
+    ("test12", "A1"): (
+        "violated", "the assertion sets constant CC of stm_ref0 to VC and CC of stm_ref1 to VD: one declaration "
+                    "(I::CC) given two values, and tockbmc has one value per declaration (DESIGN.md, 'RoboTool's "
+                    "instantiation'), so both machines output VD and ctrl0 does e1.out.VD first"),
+    ("test12", "A2"): (
+        "violated", "as A1: CC of stm_ref0 set to VA and of stm_ref1 to VB, one value per declaration"),
     ("AlphaAlgorithm", "a6"): (
         "violated", "the case's instantiation defines Mathematics_floor(x) = x, a real for floor's nat result "
                     "(FDR's reals are integers), which tockbmc refuses, so floor stays uninterpreted and "
@@ -66,6 +75,20 @@ CSP_CHECKED = {("test2", "t2a_timed"): "holds", ("test2", "t2b_timed"): "holds",
                ("test8", "A2"): "violated", ("clocks-ops2", "A1"): "holds", ("clocks-ops3", "A1"): "holds",
                ("clocks-ops1", "A4"): "holds"}
 
+# Untimed assertions (docs/semantics.md §7.11) the suite decides: RoboTool's untimed semantics.
+UNTIMED_CHECKED = {("test2", "t2a"): "holds", ("test2", "t2b"): "holds", ("test2", "t2c"): "holds",
+                   ("test5", "t2c"): "holds", ("test6", "t2c"): "holds", ("test9", "A1"): "holds",
+                   ("test11", "A1"): "holds", ("test13", "USTM1"): "holds", ("test13", "UC1"): "holds",
+                   ("test13", "UM1"): "holds", ("test8", "A1"): "violated",
+                   ("test12", "A1"): "violated", ("test12", "A2"): "violated"}
+
+
+# Left to benchmarks/conformance.py, where they are decided (holds): each takes over a minute here.
+# ChemicalDetector a4 (untimed, the whole controller against Spec1) holds by Spacer's invariant.
+# clocks4-required A1 (Spec equals M::Mod in the FD model) needs more than 12 steps for Spec's
+# traces (it holds at the default bound, in about 15 s).
+SLOW = {("ChemicalDetector", "a4"), ("clocks4-required", "A1")}
+
 
 def robotool_config(project: ast.Project) -> Configuration:
     """The configuration RoboTool would check a case with (its instantiation over the default ranges)."""
@@ -82,7 +105,8 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
             project = load(case)
         except ModelError:
             continue  # test_conformance_load.py says which cases load
-        for r in check(project, bound=BOUND, timeout=60, config=robotool_config(project)):
+        names = [a.name for a in project.assertions if (case.name, a.name) not in SLOW]
+        for r in check(project, names, bound=BOUND, timeout=60, config=robotool_config(project)):
             out[(case.name, r.assertion)] = (r.verdict, r.reason or "")
     return out
 
@@ -94,10 +118,10 @@ def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
     holding = sum(1 for v in checked.values() if v[0] == "holds")
     print(f"\n{len(checked)} corpus assertions checked, {holding} hold, "
           f"{len(results()) - len(checked)} unsupported")
-    assert holding >= 83  # the count when this test was last raised (session 6); a drop is a regression
+    assert holding >= 93  # the count when this test was last raised (untimed semantics); a drop is a regression
 
 
-def test_one_assertion_is_decided_differently_from_robotool() -> None:
+def test_the_recorded_differences_are_the_only_ones() -> None:
     """The differences left: RoboTool's expectation is that every assertion holds."""
     differ = {k for k, v in results().items() if v[0] not in ("holds", "unsupported", "unknown")}
     assert differ == set(DIFFERENCES)
@@ -110,6 +134,16 @@ def test_undecided_assertions_are_the_recorded_ones() -> None:
 def test_csp_refinements_in_the_subset_are_checked() -> None:
     for key, verdict in CSP_CHECKED.items():
         assert results()[key][0] == verdict, (key, results()[key])
+
+
+def test_untimed_assertions_are_checked_in_the_untimed_semantics() -> None:
+    for key, verdict in UNTIMED_CHECKED.items():
+        assert results()[key][0] == verdict, (key, results()[key])
+    assert "termination" in results()[("test13", "USTM1")][1]  # untimed deadlock freedom counts termination
+
+
+def test_tick_tock_is_left_unsupported_and_says_why() -> None:
+    assert "MS::TT" in results()[("simGeneric-1", "TT0")][1]
 
 
 def test_differences_are_still_differences() -> None:

@@ -54,7 +54,7 @@ def test_a_model_error_is_a_json_document_with_diagnostics(tmp_path: Path) -> No
 
 def test_explicit_and_unsupported_results_validate(tmp_path: Path) -> None:
     write_files(tmp_path, {"c.rct": COUNTER, "c.assertions": "assertion a: Counter does not terminate.\n"
-                                                             "untimed assertion b: Counter is deterministic.\n"})
+                                                             "untimed assertion b: Counter is timelock-free.\n"})
     out = run_cli(["check", tmp_path, "--engine", "explicit", "--range", "core_int=-1..1", "--format", "json"])
     document = json.loads(out.stdout)
     _validate(document)

@@ -42,7 +42,10 @@ def test_engines_agree_on_the_corpus() -> None:
             continue
         for r in check_explicit(project, None, 12, Ranges(), {}, timeout=3, max_states=100_000,
                                 config=robotool_config(project)):
-            bmc_verdict = results()[(case.name, r.assertion)][0]
+            found = results().get((case.name, r.assertion))  # None: left to benchmarks/conformance.py (SLOW)
+            if found is None:
+                continue
+            bmc_verdict = found[0]
             if {bmc_verdict, r.verdict} & {"unsupported", "unknown"}:
                 continue
             compared += 1

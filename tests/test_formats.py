@@ -43,7 +43,7 @@ stm M {
 	transition t2 { from S to F condition x == 2 }
 }
 """,
-    "m.assertions": "assertion a: M does not terminate.\nuntimed assertion d: M is deterministic.\n",
+    "m.assertions": "assertion a: M does not terminate.\nuntimed assertion d: M is timelock-free.\n",
 }
 BROKEN = {"m.rct": "stm M {\n  event stpo\n  initial i\n  state s {}\n"
                    "  transition t { from i to s }\n  transition t1 { from s to s trigger stop }\n}\n"}
@@ -183,8 +183,8 @@ def test_sarif_reports_an_unsupported_assertion_as_a_note(tmp_path: Path) -> Non
     validate_sarif(log)
     violated, unsupported = log["runs"][0]["results"]
     assert (violated["ruleId"], violated["level"]) == ("does-not-terminate", "error")
-    assert (unsupported["ruleId"], unsupported["level"]) == ("deterministic", "note")
-    assert unsupported["message"]["text"] == "d unsupported: untimed assertions need RoboTool's untimed semantics, which is not built yet"
+    assert (unsupported["ruleId"], unsupported["level"]) == ("timelock-free", "note")
+    assert unsupported["message"]["text"] == "d unsupported: timelock-freedom is about tock, which RoboTool's untimed semantics does not have: RoboTool generates it in the timed semantics only"
     assert "codeFlows" not in unsupported
     assert unsupported["locations"][0]["physicalLocation"]["region"] == {"startLine": 2, "startColumn": 19}
 
@@ -267,7 +267,7 @@ def test_junit_skips_an_unsupported_assertion(tmp_path: Path) -> None:
     assert (report.tests, report.failures, report.errors, report.skipped) == (2, 1, 0, 1)
     cases = {case.name: case for suite in report for case in suite}
     [skipped] = cases["d"].result
-    assert isinstance(skipped, Skipped) and skipped.message == "unsupported: untimed assertions need RoboTool's untimed semantics, which is not built yet"
+    assert isinstance(skipped, Skipped) and skipped.message == "unsupported: timelock-freedom is about tock, which RoboTool's untimed semantics does not have: RoboTool generates it in the timed semantics only"
     assert isinstance(cases["a"].result[0], Failure)
 
 

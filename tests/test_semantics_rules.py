@@ -1110,8 +1110,10 @@ stm Term {
     expect(rs["T"], "holds")
 
 
-def test_section3_untimed_and_csp_assertions_are_unsupported(tmp_path) -> None:
-    """§3: untimed assertions are reported unsupported, never checked in the timed model. §4: a
+def test_section3_untimed_and_csp_assertions(tmp_path) -> None:
+    """§3: untimed assertions are checked in RoboTool's untimed semantics: M, stable in s with
+    nothing to do, refuses every event, an untimed deadlock (U1), while timelock-freedom has no
+    untimed meaning (U4, unsupported). §4: a
     CSP process with no model element in it cannot be the subject of an assertion (C1); M refines
     Spec is checked (C2): outside a Timed section the prefix refuses tock, and M, stable in s,
     lets time pass, so the trace <tock> is M's but not Spec's."""
@@ -1126,6 +1128,7 @@ stm M {
 untimed assertion U1: M is deadlock-free.
 untimed assertion U2: s is reachable in M.
 untimed assertion U3: M does not terminate.
+untimed assertion U4: M is timelock-free.
 timed csp Spec csp-begin
 Spec = M::terminate -> SKIP
 csp-end
@@ -1133,7 +1136,10 @@ assertion C1: Spec is timelock-free.
 assertion C2: M refines Spec in the traces model.
 """
     rs = run(tmp_path, rct, text)
-    for name in ["U1", "U2", "U3", "C1"]:
+    expect(rs["U1"], "violated", [])
+    expect(rs["U2"], "holds")
+    expect(rs["U3"], "holds")
+    for name in ["U4", "C1"]:
         assert rs[name].verdict == "unsupported", (name, rs[name].verdict, rs[name].reason)
         assert rs[name].reason
     expect(rs["C2"], "violated", ["tock"])

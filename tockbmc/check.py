@@ -29,7 +29,9 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.deadlock import refuses_everything
 from tockbmc.properties.determinism import locally_nondeterministic
+from tockbmc.properties.failures import FAILURES_MODELS
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
@@ -113,7 +115,7 @@ class _Check:
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
-            network = network_of(q.element, dict(q.defined))
+            network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
             if q.determinism:
@@ -203,7 +205,9 @@ class _Check:
         if goal.found == Verdict.HOLDS and self.reasons:  # earlier goals found nothing wrong
             why = "; ".join([*self.reasons, f"witness: {why}"])
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
-        extra = {"replayed": replayed}
+        extra: dict[str, object] = {"replayed": replayed}
+        if goal.details is not None:
+            extra.update(goal.details(u, model, outcome.depth))
         if outcome.reason:  # `shortest="events"` could not finish
             extra["shortest"] = outcome.reason
         return self.result(goal.found, why, proof=Proof.TRACE, depth=outcome.depth, trace=trace, extra=extra)
@@ -302,8 +306,9 @@ class _Check:
         def make(follower: Callable[[TransitionSystem], TraceFollower]) -> TransitionSystem:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
+        failures = self.a.semantic_model if self.a.semantic_model in FAILURES_MODELS else None
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
-                       progress=self.progress)
+                       progress=self.progress, refusals=failures)
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
                 return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace)
@@ -378,7 +383,7 @@ def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Cal
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
 
     try:
-        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined)))
+        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed))
     except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
     return "yes"
@@ -395,11 +400,17 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     from tockbmc.explicit.replay import replay
 
     def follow(interp: Interpreter) -> None:
+        refusal = _refusal_check(q, a, interp, trace) if goal.failures else None
+
         def final(config: object, steps: list) -> bool:
+            if refusal is not None:
+                return refusal(config)
             if goal.target is terminated:
                 return interp.terminated(config)  # type: ignore[arg-type]
             if goal.target is stuck:
                 return not steps and not interp.terminated(config)  # type: ignore[arg-type]
+            if goal.target is refuses_everything:  # untimed deadlock: termination included
+                return not steps
             if goal.target is timelocked or a.kind == "timelock-free":
                 return not any(s.kind in ("internal", "tock") for s in steps)
             if a.kind == "reachable":
@@ -409,3 +420,37 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
         replay(interp, trace, choices, q.context, final)
 
     return _replayed(q, ranges, consts, follow)
+
+
+def _refusal_check(q: Query, a: ast.Assertion, interp: Interpreter, trace: tuple) -> Callable[[object], bool]:
+    """Where a failures-refinement counterexample ends: the specification's monitor is dead or the
+    element has terminated (a traces violation), or the configuration is stable and refuses, for
+    each stable state of the specification, an event that state accepts (`ConcreteRefusals`); a
+    divergence (a lasso) ends where internal steps go on, in the failures-divergences model."""
+    from tockbmc.explicit.engine import ConcreteRefusals
+    from tockbmc.properties.spec import Monitor
+
+    context = q.context
+    assert context is not None and context.spec is not None
+    monitor = Monitor(context.sem, context.spec, [])
+    refusals = ConcreteRefusals(interp, q, monitor)
+    state = monitor.initial
+    for s in trace:
+        if s.kind in ("event", "tock") and s.note not in ("before the model starts", "after the model terminates"):
+            state = monitor.after(state, ("tock",) if s.kind == "tock" else
+                                  (*s.channel, *(refusals.literals.get(v, v) if isinstance(v, str) else v
+                                                 for v in s.values)))
+
+    def final(config: object) -> bool:
+        if state == Monitor.DEAD or interp.terminated(config):  # type: ignore[arg-type]
+            return True
+        steps = []
+        for st in interp.steps(config):  # type: ignore[arg-type]
+            status = "visible" if st.event is None else context.status(st.event.channel, len(st.event.values))
+            if st.kind == "internal" or status == "hidden":
+                return a.semantic_model == "failures divergences"
+            if status != "blocked":
+                steps.append(st)
+        return refusals.failure(state, steps) is not None
+
+    return final

@@ -13,12 +13,17 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import z3
+
 from tockbmc.bmc.engine import Progress, Status, bmc
 from tockbmc.encodings.system import TransitionSystem
+from tockbmc.model.errors import Unsupported
 from tockbmc.model.result import TraceStep, Verdict
+from tockbmc.properties.deadlock import may_diverge
+from tockbmc.properties.failures import SpecRefusal, acceptance_text, divergent_state, offers_within, spec_refusals
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, TraceFollower, followed, spec_traces
 from tockbmc.properties.process import _event_text, alphabet_of, channels_of
-from tockbmc.properties.spec import Proc, Semantics
+from tockbmc.properties.spec import Monitor, Proc, Semantics
 
 Make = Callable[[Callable[[TransitionSystem], TraceFollower]], TransitionSystem]
 
@@ -46,8 +51,10 @@ def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Call
 
 
 def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, bound: int,
-             timeout: Callable[[], float | None], cap: int = 256, progress: Progress | None = None) -> Inclusion:
-    """Whether every trace of `spec` (up to a length) is one of the element's.
+             timeout: Callable[[], float | None], cap: int = 256, progress: Progress | None = None,
+             refusals: str | None = None) -> Inclusion:
+    """Whether every trace of `spec` (up to a length) is one of the element's; with `refusals` (the
+    failures model of the assertion), also every stable refusal of `spec` after those traces.
 
     `make(follower)` builds the element's system with a follower attached; `progress` is told each
     depth each search clears.
@@ -75,5 +82,63 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
         why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has this trace and {element} was not shown to perform it "
                                           f"({why})", steps)
+    if refusals:
+        return _refusals(make, sem, spec, spec_name, element, [t.events for t in traces], length, bound, timeout,
+                         progress, refusals)
     return Inclusion(Verdict.HOLDS, f"every trace of {spec_name} with up to {length} events is a trace of {element} "
                                     f"({len(traces)} traces listed, each performed within {bound} steps)")
+
+
+def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, traces: list[tuple[tuple, ...]],
+              length: int, bound: int, timeout: Callable[[], float | None], progress: Progress | None,
+              model: str) -> Inclusion:
+    """In the failures models: after each listed trace, each stable refusal of the specification is
+    one of the element's (docs/semantics.md §7.12).  `model` is the assertion's model; in the
+    failures-divergences model a divergence of the element after the trace would allow every
+    refusal, so a missing one is a violation only when the element cannot diverge."""
+    probe = _following(make, SpecTrace((), False))
+    channels, channel_of = channels_of(probe)
+    mon = Monitor(sem, spec, channels)
+    if model == "failures divergences":
+        mon.table()  # every reachable state
+        if divergent_state(mon, sem) is not None:
+            raise Unsupported(None, f"{spec_name} can diverge; refinement in the failures-divergences model "
+                                    "against a divergent specification is not supported")
+    wanted = spec_refusals(mon, sem, channels, traces)
+    if len(wanted) > REFUSALS_CAP:
+        return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {REFUSALS_CAP} stable refusals after its traces "
+                                          f"of up to {length} events, which gives no verdict")
+    for r in wanted:
+        system = _following(make, SpecTrace(r.events, False))
+
+        def target(s: TransitionSystem, r: SpecRefusal = r) -> z3.BoolRef:
+            return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
+
+        outcome = bmc(system, target, bound, timeout(), induction=True, progress=progress)
+        if outcome.status == Status.FOUND:
+            continue
+        shown = [_event_text(e) for e in r.events]
+        steps = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {spec_name}", {}, {})
+                      for j, e in enumerate(shown))
+        what = (f"{_after(r)} {spec_name} can be stable accepting {acceptance_text(channels, r.acceptance)}, "
+                f"and {element}")
+        if outcome.status == Status.PROVED:
+            if model == "failures divergences" and may_diverge(system):
+                return Inclusion(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest in any number "
+                                                  f"of steps ({outcome.reason}), but it may diverge, which in the "
+                                                  "failures-divergences model allows every refusal", steps)
+            return Inclusion(Verdict.VIOLATED, f"{what} has no stable configuration, short of termination, refusing "
+                                               f"everything else, in any number of steps ({outcome.reason})", steps)
+        why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
+        return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to refuse everything else in a stable configuration "
+                                          f"({why})", steps)
+    return Inclusion(Verdict.HOLDS, f"every trace of {spec_name} with up to {length} events is a trace of {element}, "
+                                    f"and each of its {len(wanted)} stable refusals after them one of {element}'s "
+                                    f"({len(traces)} traces listed, each within {bound} steps)")
+
+
+REFUSALS_CAP = 256
+
+
+def _after(r: SpecRefusal) -> str:
+    return "after this trace" if r.events else "at the start"

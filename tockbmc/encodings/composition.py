@@ -10,11 +10,12 @@ require by name.  The network is plain data; `system.py` turns it into Z3.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from tockbmc.encodings.automaton import Automaton, compile_machine
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.untimed import untimed
 
 
 @dataclass(frozen=True)
@@ -74,6 +75,9 @@ class Network:
     # and, per (component, name) of a variable the machine requires, the key it shares.
     shared: dict[str, ast.Variable] = field(default_factory=dict)
     scopes: dict[tuple[int, str], str] = field(default_factory=dict)
+    # False in RoboTool's untimed semantics (docs/semantics.md §7.11): the machines are the model
+    # rewritten by `model.untimed` and `tock` is never possible.
+    timed: bool = True
 
     def route(self, component: int, event: str) -> tuple[Link, str] | None:
         """The link that carries a component's event, and which end the component is."""
@@ -254,8 +258,12 @@ def of_module(m: ast.Module) -> Network:
 
 
 def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
-               defined: dict[str, ast.OperationDef] | None = None) -> Network:
-    """The network of a machine (with the operations its controller defines), controller or module."""
+               defined: dict[str, ast.OperationDef] | None = None, timed: bool = True) -> Network:
+    """The network of a machine (with the operations its controller defines), controller or module;
+    with `timed=False`, in RoboTool's untimed semantics (`model.untimed`; no `tock`)."""
+    if not timed:
+        element, defined = untimed(element, defined)
+        return replace(network_of(element, defined), timed=False)
     if isinstance(element, ast.StateMachine):
         return of_machine(element, defined)
     if isinstance(element, ast.Controller):

@@ -584,6 +584,8 @@ class TransitionSystem:
         return self.once("tock", self._tock_enabled)
 
     def _tock_enabled(self) -> z3.BoolRef:
+        if not self.network.timed:  # RoboTool's untimed semantics has no tock (docs/semantics.md §7.11)
+            return z3.BoolVal(False)
         cs = [z3.Not(self.halted()), z3.Not(self.internal_enabled())]
         f = self.cur
         for c, comp in enumerate(self.components):

@@ -30,11 +30,22 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.failures import (
+    FAILURES_MODELS,
+    Offer,
+    SpecRefusal,
+    acceptance_text,
+    acceptances,
+    divergent_state,
+    offer_text,
+    refuse_context,
+    spec_refusals,
+)
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import query
-from tockbmc.properties.spec import Channel, EnumValue, Monitor, TooLarge
+from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
 
 DEFAULT_MAX_STATES = 1_000_000
 # The assertions searched lazily: each decided by a condition on one node at a time.
@@ -109,9 +120,9 @@ class Search:
                 raise Unsupported(None, "the specification has too many states") from None
         self.literals = _literals(q)
         self._after: dict[tuple, int] = {}
-        self._reset()
+        self.reset()
 
-    def _reset(self) -> None:
+    def reset(self) -> None:
         self.transitions = 0
         self.complete = True  # every configuration within the bound was expanded
         self.parent: dict[Hashable, tuple[Hashable, Edge] | None] = {}
@@ -226,7 +237,7 @@ class Search:
                 return self._run(found)
             except _Strict as exc:
                 self.interp.strict.add(exc.channel)
-                self._reset()
+                self.reset()
 
     def _run(self, found: Callable[[Hashable, list[Edge]], str | None]) -> tuple[Hashable, str] | None:
         first = None
@@ -429,8 +440,9 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
     constants: dict[str, str] = {}
     sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
 
-    def result(verdict: Verdict, reason: str, trace: tuple = ()) -> Result:
+    def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
+        extra.update(more or {})
         if trace:
             proof = Proof.TRACE
         elif verdict in (Verdict.HOLDS, Verdict.VIOLATED):  # shown by the search having run out
@@ -449,12 +461,14 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         consts = python_settings(setup.constants)
 
         def interpreter(lazy: bool) -> Interpreter:
-            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy)
+            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy,
+                               timed=q.timed)
 
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
         if q.inclusion is None or q.goals:  # equals: this direction first
-            search = Search(interpreter(a.kind in LAZY_KINDS), q, bound, max_states, deadline, progress)
+            lazy = a.kind in LAZY_KINDS and a.semantic_model not in FAILURES_MODELS  # refusals read every value
+            search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
             decided = _decide(a, q, search, result)
             if q.inclusion is None or decided.verdict != Verdict.HOLDS:
                 return decided
@@ -485,31 +499,94 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
         return result(Verdict.UNKNOWN, f"{q.spec_name} has too many traces of {wanted} events")
     for t in traces:
         if not _performs(search, t):
-            shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
-                                    f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(t.events))
+            names = [_event_text(e) for e in t.events] + (["✓"] if t.ticks else [])  # as BMC's inclusion shows it
+            shown = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {q.spec_name}", {}, {})
+                          for j, e in enumerate(names))
             verdict = Verdict.HOLDS if a.negated else Verdict.VIOLATED
             return result(verdict, f"{q.spec_name} has this trace{' and then terminates' if t.ticks else ''}, "
                                    f"and {q.element.name} cannot perform it", shown)
+    refusals = ""
+    if a.semantic_model in FAILURES_MODELS:
+        decided = _refusals_included(a, q, search, result, [t.events for t in traces])
+        if decided is not None:
+            return decided
+        refusals = ", and each stable refusal of it after them one of the model's"
     if a.negated:
         return result(Verdict.UNKNOWN, f"every trace of {q.spec_name} with up to {length} events is one of "
-                                 f"{q.element.name}'s; a bounded search alone gives no verdict")
+                                 f"{q.element.name}'s{refusals}; a bounded search alone gives no verdict")
     return result(Verdict.HOLDS, f"every trace of {q.spec_name} with up to {length} events is a trace of "
-                           f"{q.element.name} ({len(traces)} traces listed)")
+                           f"{q.element.name}{refusals} ({len(traces)} traces listed)")
+
+
+def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],
+                       traces: list[tuple[tuple, ...]]) -> Result | None:
+    """In the failures models, the specification on the right: after each listed trace, each stable
+    refusal of the specification is made by some stable configuration of the element, short of
+    termination, offering nothing outside the acceptance (docs/semantics.md §7.12); None if so."""
+    assert q.context is not None and q.inclusion is not None
+    sem = q.context.sem
+    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, []))
+    mon = Monitor(sem, q.inclusion, checker.channels)
+    checker.monitor = mon
+    if a.semantic_model == "failures divergences":
+        mon.table()
+        if divergent_state(mon, sem) is not None:
+            raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
+                                    "against a divergent specification is not supported")
+    wanted = spec_refusals(mon, sem, checker.channels, traces)
+    if len(wanted) > 256:
+        return result(Verdict.UNKNOWN, f"{q.spec_name} has more than 256 stable refusals after its listed traces, "
+                                       "which gives no verdict")
+    for r in wanted:
+        if _refuses_as(search, checker, r):
+            continue
+        shown = tuple(TraceStep(j + 1, _event_text(e), "tock" if e == ("tock",) else "event",
+                                f"a trace of {q.spec_name}", {}, {}) for j, e in enumerate(r.events))
+        what = (f"{'after this trace' if r.events else 'at the start'} {q.spec_name} can be stable accepting "
+                f"{acceptance_text(checker.channels, r.acceptance)}, and {q.element.name}")
+        if not search.complete:
+            return result(Verdict.UNKNOWN, f"{what} was not found refusing everything else in a stable configuration "
+                                           f"within {search.bound} visible steps", shown)
+        if a.semantic_model == "failures divergences" and search.cycle(lambda s: s.kind == "internal",
+                                                                         lambda k: True) is not None:
+            return result(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest, but it can diverge, "
+                                           "which in the failures-divergences model allows every refusal", shown)
+        return result(Verdict.HOLDS if a.negated else Verdict.VIOLATED,
+                      f"{what} has no stable configuration, short of termination, refusing everything else "
+                      "(every reachable configuration was explored)", shown)
+    return None
+
+
+def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bool:
+    """Whether the element can perform r's events and then be stable, short of termination, offering
+    only events of r's acceptance."""
+    def end(config: Config, steps: list[Edge]) -> bool:
+        return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
+                and all(checker.within(r, e.step) for e in steps))
+
+    return _runs_to(search, r.events, end)
 
 
 def _performs(search: Search, t: SpecTrace) -> bool:
     """Whether the element can perform the visible events of t in order (internal steps between),
     terminating at the end if t does; raises MemoryError past the state limit."""
-    names = [_event_text(e) for e in t.events]
+    return _runs_to(search, t.events, lambda config, steps: not t.ticks or search.interp.terminated(config))
+
+
+def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, list[Edge]], bool]) -> bool:
+    """Whether some run performs `events` in order (internal steps between) and ends in a
+    configuration for which `end` holds (given its steps); raises MemoryError past the state limit."""
+    names = [_event_text(e) for e in events]
     start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
     seen = set(start)
     todo = deque(start)
     while todo:
         node_key, i = todo.popleft()
         config = cast("tuple[Config, None]", node_key)[0]
-        if i == len(names) and (not t.ticks or search.interp.terminated(config)):
+        steps = search.steps((config, None))
+        if i == len(names) and end(config, steps):
             return True
-        for step, nxt, _ in search.steps((config, None)):
+        for step, nxt, _ in steps:
             node: tuple[Hashable, int]
             if step.kind == "internal":
                 node = (nxt, i)
@@ -559,8 +636,41 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 rests[state] = after_termination(context.sem, monitor, context.impl.tail, state)
             return "after" if rests[state] is not None else None
 
-        hit = search.run(after_end)
-        spec = a.other
+        refusals = ConcreteRefusals(interp, q, monitor) if a.semantic_model in FAILURES_MODELS else None
+        if refusals is not None:
+            refuse_context(context.impl)
+        if refusals is not None and a.semantic_model == "failures divergences":
+            assert context.spec is not None
+            whole = Monitor(context.sem, context.spec, refusals.channels)  # every reachable state, to look for divergence
+            whole.table()
+            if divergent_state(whole, context.sem) is not None:
+                raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
+                                        "against a divergent specification is not supported")
+        refused: dict[Hashable, list[str]] = {}
+
+        def found(key: Hashable, succ: list) -> str | None:
+            why = after_end(key, succ)
+            if why is not None or refusals is None:
+                return why
+            config, state = cast("tuple[Config, int | None]", key)
+            if state is None or state == Monitor.DEAD or internal(succ) or interp.terminated(config):
+                return None
+            shown = refusals.failure(state, [e.step for e in succ])
+            if shown is None:
+                return None
+            refused[key] = shown
+            return "refusal"
+
+        hit = search.run(found)
+        spec = q.spec_name
+        if hit is not None and negated and refusals is not None and a.semantic_model == "failures divergences":
+            found_at = search.depth[hit[0]]
+            search.reset()  # explore everything: a divergence nearer the start is the shorter witness
+            search.run(lambda key, succ: None)
+            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            if loop is not None and search.depth[loop] < found_at:
+                return result(Verdict.HOLDS, f"{name} can repeat internal steps for ever (divergence), which "
+                                             f"{spec} cannot", search.trace(loop))
         if hit is not None:
             verdict = Verdict.HOLDS if negated else Verdict.VIOLATED
             trace = search.trace(hit[0])
@@ -572,7 +682,19 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                                          "after the model terminates", {}, {}) for j, e in enumerate(rest))
                 return result(verdict, f"after {name} terminates, the process goes on with {' '.join(rest)}, which "
                                        f"{spec} cannot do", head + trace)
+            if hit[1] == "refusal":
+                offers = sorted({_label(e.step) for e in search.steps(hit[0]) if e.step.kind != "internal"})
+                return result(verdict, f"{name} is stable and offers only {', '.join(offers) or 'nothing'}; every "
+                                       f"stable state of {spec} after this trace accepts an event the model refuses "
+                                       f"({'; '.join(sorted(set(refused[hit[0]])))})", head + trace,
+                              {"refusal": sorted(set(refused[hit[0]]))})
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
+        if refusals is not None and a.semantic_model == "failures divergences":
+            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            if loop is not None:
+                return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                              f"{name} can repeat internal steps for ever (divergence), which {spec} cannot",
+                              search.trace(loop))
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"every trace is a trace of {spec}; {scope()}")
         return done(f"every trace is a trace of {spec}")
@@ -605,6 +727,20 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
+    if kind == "deadlock-free" and not q.timed:  # FDR's :[deadlock free]: a refusal of everything, or divergence
+        hit = search.run(lambda key, succ: "deadlock" if not succ else None)
+        if hit is not None:
+            why = (f"{name} has terminated, and so refuses every event: untimed, FDR's :[deadlock free] counts "
+                   "termination as a deadlock" if terminated(hit[0]) else
+                   f"{name} has not terminated and refuses every event")
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
+        loop = search.nearest_cycle(lambda s: s.kind == "internal")
+        if loop is not None:
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
+                          f"{name} can repeat internal steps for ever (divergence)", search.trace(loop))
+        if negated:
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no deadlock; {scope()}")
+        return done("no deadlock")
     if kind == "deadlock-free":  # time only for ever, or divergence; a refusal of everything is a timelock
         search.run(lambda key, succ: None)
         loop = search.time_only(lambda k: not terminated(k))
@@ -665,6 +801,11 @@ def is_state(machine: str, active: str, state: str) -> bool:
 def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) -> list[tuple[tuple, int]]:
     """Channels the element might show, over-approximated (so specifications can be probed with them):
     every event of the element and of its machines in both directions, its calls and `terminate`."""
+    return [(prefix, len(types)) for prefix, types in element_types(element).items()]
+
+
+def element_types(element: ast.StateMachine | ast.Controller | ast.Module) -> dict[tuple, tuple[ast.Type, ...]]:
+    """The channels of `element_alphabet`, each with the types of its values."""
     name = element.name
     machines: list[ast.StateMachine] = []
     events: list[tuple[str, ast.Event]] = []
@@ -679,14 +820,91 @@ def element_alphabet(element: ast.StateMachine | ast.Controller | ast.Module) ->
             events += [(ci.controller.name, e) for e in ci.controller.events]
         if element.platform is not None:
             events += [(name, e) for e in element.platform.events]
-    out: list[tuple[tuple, int]] = [((f"{name}::terminate",), 0)]
+    out: dict[tuple, tuple[ast.Type, ...]] = {(f"{name}::terminate",): ()}
     for m in machines:
         events += [(m.name, e) for e in m.events]
-        out += [(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),), len(op.parameters)) for op in m.operations]
+        for op in m.operations:
+            out.setdefault(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),),
+                           tuple(p.type for p in op.parameters))
     for owner, e in events:
         channel = "::".join(f"{owner}::{e.name}".split("::")[-2:])
-        out += [((channel, d), int(e.type is not None)) for d in ("in", "out")]
-    return list(dict.fromkeys(out))
+        for d in ("in", "out"):
+            out.setdefault((channel, d), () if e.type is None else (e.type,))
+    return out
+
+
+REFUSAL_CHOICES = 100_000  # values of one refused class tried before the check is given up
+
+
+class ConcreteRefusals:
+    """The failures check on one concrete configuration (docs/semantics.md §7.12): stable, not
+    terminated, and every stable term of the specification in the monitor state accepts some event
+    (within the types and ranges) that the configuration does not offer."""
+
+    def __init__(self, interp: Interpreter, q: Query, monitor: Monitor):
+        assert q.context is not None
+        self.interp, self.monitor, self.sem = interp, monitor, q.context.sem
+        self.sem.alphabet = element_alphabet(q.element)
+        tock = q.timed and q.context.status(("tock",), 0) != "hidden"
+        self.channels = [Channel(p, a) for p, a in self.sem.alphabet] + ([Channel(("tock",), 0)] if tock else [])
+        self.types = element_types(q.element)
+        self.literals = {v.text: v for v in self.sem.evaluator.literals.values()}
+        self.accept: dict[int, list[tuple[Offer, ...]]] = {}
+
+    def event(self, s: Step) -> tuple:
+        if s.kind == "tock":
+            return ("tock",)
+        assert s.event is not None
+        return (*s.event.channel, *(self.literals.get(v, v) if isinstance(v, str) else v for v in s.event.values))
+
+    def refused(self, offered: set[tuple], state: int, o: Offer) -> bool:
+        if o.channel is None:
+            return True
+        ch = self.channels[o.channel]
+        if ch.prefix == ("tock",):
+            return ("tock",) not in offered
+        named = self.monitor.fields(state, ch)
+        fields = []
+        for j, t in enumerate(self.types.get(ch.prefix, ())):
+            values = [self.literals.get(v, v) if isinstance(v, str) else v
+                      for v in self.interp.domain(t, (ch.prefix[0],))]
+            x = o.values[j]
+            if x is OTHER:
+                fields.append([v for v in values if not any(_same(v, y) for y in named[j])])
+            else:
+                fields.append([v for v in values if _same(v, x)])
+        if math.prod(len(f) for f in fields) > REFUSAL_CHOICES:
+            raise Unsupported(None, f"too many values on {ch.prefix[0]} to compare refusals")
+        return any((*ch.prefix, *combo) not in offered for combo in itertools.product(*fields))
+
+    def within(self, r: SpecRefusal, s: Step) -> bool:
+        """Whether a visible step's event is in one of the classes of r's acceptance."""
+        e = self.event(s)
+        for o in r.acceptance:
+            if o.channel is None:
+                continue
+            ch = self.channels[o.channel]
+            if e[: len(ch.prefix)] != ch.prefix or len(e) != len(ch.prefix) + len(o.values):
+                continue
+            named = self.monitor.fields(r.state, ch)
+            if all((not any(_same(v, y) for y in named[j])) if x is OTHER else _same(v, x)
+                   for j, (v, x) in enumerate(zip(e[len(ch.prefix):], o.values, strict=True))):
+                return True
+        return False
+
+    def failure(self, state: int, steps: list[Step]) -> list[str] | None:
+        """The events refused (one per stable term of the specification), if the refusal of a stable
+        configuration with these visible steps is not one the specification can make; else None."""
+        if state not in self.accept:
+            self.accept[state] = acceptances(self.monitor, self.sem, state, self.channels)
+        offered = {self.event(s) for s in steps}
+        shown = []
+        for acc in self.accept[state]:
+            o = next((o for o in acc if self.refused(offered, state, o)), None)
+            if o is None:
+                return None
+            shown.append(offer_text(self.channels, o))
+        return shown
 
 
 def _label(step: Step) -> str:

@@ -110,6 +110,7 @@ from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
 from tockbmc.model.data import Product, text_of
+from tockbmc.model.untimed import untimed
 
 # ----------------------------------------------------------------------------- public values
 
@@ -668,7 +669,12 @@ class Interpreter:
                  ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
                  settings: dict[str, object] | None = None,
                  defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None,
-                 lazy: bool = False) -> None:
+                 lazy: bool = False, timed: bool = True) -> None:
+        # RoboTool's untimed semantics (docs/semantics.md §7.11): the model as `model.untimed`
+        # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
+        self.timed = timed
+        if not timed:
+            element, defined = untimed(element, defined)
         self.element = element
         self.sampler = sampler  # None: every value of every choice (the explicit engine, replay)
         # Lazy mode (the explicit engine's search): an input or an open initial value is an Unknown
@@ -2027,7 +2033,7 @@ class Interpreter:
                     self._concrete(buf[0], (link.vis, "out"))
                     steps.append(Step("event", self._event(link.vis, "out", link.type, buf[0]),
                                       self._config(config, [], {link.slot: None})))
-        tock = self._tock(config, steps, urgent)
+        tock = self._tock(config, steps, urgent) if self.timed else None
         if tock is not None:
             steps.append(Step("tock", TOCK, tock))
         return steps

@@ -14,6 +14,9 @@ result must be divergence-free, so only "time passes for ever and nothing else" 
 
 from __future__ import annotations
 
+from collections.abc import Hashable, Iterable, Mapping
+from typing import TypeVar
+
 import z3
 
 from tockbmc.encodings import names
@@ -22,6 +25,8 @@ from tockbmc.encodings.terms import quantified
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.properties.goals import Goal, true_at
+
+N = TypeVar("N", bound=Hashable)
 
 
 def _nothing_ever(system: TransitionSystem) -> z3.BoolRef:
@@ -133,7 +138,7 @@ def _abstract_cycle(system: TransitionSystem, limit: int) -> bool:
                     return True  # too many to tell: search for a lasso
                 seen.add(nxt)
                 todo.append(nxt)
-    return _has_cycle(internal)  # type: ignore[arg-type]
+    return _has_cycle(internal)
 
 
 def _machine_cycle(system: TransitionSystem) -> bool:
@@ -149,8 +154,9 @@ def _machine_cycle(system: TransitionSystem) -> bool:
     return False
 
 
-def _has_cycle(graph: dict[int, set[int]]) -> bool:
-    done: set[int] = set()
+def _has_cycle(graph: Mapping[N, Iterable[N]]) -> bool:
+    """Whether the directed graph (node -> successors) has a cycle."""
+    done: set[N] = set()
     for root in graph:
         if root in done:
             continue
@@ -289,3 +295,38 @@ def divergence_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     return (Goal.violation(diverges, _describe_divergence, prepare=watch_loops,
                            claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
                            skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops),)
+
+
+def refuses_everything(system: TransitionSystem) -> z3.BoolRef:
+    """Stable and offering no event: a deadlock in FDR's sense, termination included (a terminated
+    element refuses every event)."""
+    return z3.And(z3.Not(system.internal_enabled()), z3.Not(system.event_offered()))
+
+
+def untimed_deadlocked(system: TransitionSystem) -> z3.BoolRef:
+    return z3.Or(refuses_everything(system), diverges(system))
+
+
+def _describe_untimed(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+    system = unroller.system
+    if true_at(unroller, model, diverges(system), k):
+        return _describe_divergence(unroller, model, k)
+    if true_at(unroller, model, system.halted(), k):
+        return (f"{system.name} has terminated, and so refuses every event: untimed, FDR's :[deadlock free] counts "
+                "termination as a deadlock")
+    return f"{system.name} has not terminated and refuses every event"
+
+
+def untimed_deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
+    """Untimed `P is deadlock-free` (docs/semantics.md §7.11): FDR's `P :[deadlock free]` on the
+    untimed process, in the failures-divergences model: no reachable stable configuration refuses
+    every event (a terminated one included: FDR reports the state after ✓ as a deadlock), and no
+    divergence."""
+    if negated:
+        return (Goal.witness(untimed_deadlocked, _describe_untimed, prepare=watch_loops, unprovable=unbounded_loops,
+                             sought="a deadlock (a refusal of every event, termination included, or divergence)"),)
+    return (Goal.violation(refuses_everything, _describe_untimed,
+                           claim="no configuration refuses every event (termination included)"),
+            Goal.violation(diverges, _describe_untimed, prepare=watch_loops,
+                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
+                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops))

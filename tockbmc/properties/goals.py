@@ -46,6 +46,8 @@ class Goal:
     # Why the target's unreachability at every depth would not show the claim (so no proof is
     # attempted and only the bounded search counts), or None when it would.
     unprovable: Callable[[TransitionSystem], str | None] | None = None
+    failures: bool = False  # a refusal the specification cannot make is among the targets (the replay checks it)
+    details: Callable[[Unroller, z3.ModelRef, int], dict[str, object]] | None = None  # more for the result
 
     @staticmethod
     def violation(target: Target, describe: Describe, **more: object) -> Goal:
@@ -73,6 +75,7 @@ class Query:
     inclusion: Proc | None = None  # a specification every trace of which must be the element's
     determinism: bool = False  # searched before the goals: two runs, one trace, an event offered and refused
     spec_name: str = ""
+    timed: bool = True  # False: RoboTool's untimed semantics (no tock; `model.untimed` rewrites the element)
 
 
 def says(text: str) -> Describe:

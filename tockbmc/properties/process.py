@@ -323,6 +323,8 @@ class MonitorExtension:
         before = tuple(TraceStep(0, _event_text(e), "event", "before the model starts", {}, {})
                        for e in self.context.impl.head)
         state = model.eval(unroller.frame(k)[names.MONITOR], model_completion=True).as_long()
+        if not z3.is_true(model.eval(unroller.at(unroller.system.halted(), k), model_completion=True)):
+            state = Monitor.DEAD  # nothing follows an element that has not terminated (a refusal, a divergence)
         last = trace[-1].states if trace else {}
         after = tuple(TraceStep(k + 1 + j, e, "tock" if e == "tock" else "event",
                                 "after the model terminates", last, {})

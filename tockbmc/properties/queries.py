@@ -6,6 +6,7 @@ Assertion forms that are not supported yet raise `Unsupported` with the reason.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import z3
 
@@ -15,7 +16,16 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.model.errors import Unsupported
-from tockbmc.properties.deadlock import deadlock_goals, divergence_goals
+from tockbmc.properties.deadlock import (
+    _describe_divergence,
+    deadlock_goals,
+    divergence_goals,
+    diverges,
+    unbounded_loops,
+    untimed_deadlock_goals,
+    watch_loops,
+)
+from tockbmc.properties.failures import FAILURES_MODELS, Refusals
 from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
@@ -55,12 +65,21 @@ def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
 
 def query(project: ast.Project, a: ast.Assertion) -> Query:
     """The query for assertion `a`; raises `Unsupported` for forms not checked yet."""
-    if a.timing == "untimed":
-        raise Unsupported(None, "untimed assertions need RoboTool's untimed semantics, which is not built yet")
-    if a.semantic_model not in (None, "traces") and a.kind in ("refines", "equals"):
-        raise Unsupported(None, f"the {a.semantic_model} model is not supported")
+    q = _query(project, a)
+    return replace(q, timed=False) if a.timing == "untimed" else q
+
+
+def _query(project: ast.Project, a: ast.Assertion) -> Query:
+    timed = a.timing != "untimed"
+    if not timed and a.kind == "timelock-free":
+        raise Unsupported(None, "timelock-freedom is about tock, which RoboTool's untimed semantics does not have: "
+                                "RoboTool generates it in the timed semantics only")
+    if a.semantic_model == "tick-tock" and a.kind in ("refines", "equals"):
+        raise Unsupported(None, "the tick-tock model is not supported: RoboTool checks it as traces refinement "
+                                "between model-shifted processes (MS::TT(Q) [T= MS::TT(P)) that record refusals "
+                                "before each tock, which tockbmc does not encode")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
-    sem = Semantics(ev)
+    sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
     subject, subject_is_process = (a.other, a.other_is_process) if a.kind == "reachable" else (a.subject,
@@ -90,6 +109,8 @@ def query(project: ast.Project, a: ast.Assertion) -> Query:
 
 
 def _goals(a: ast.Assertion, name: str) -> tuple[Goal, ...]:
+    if a.kind == "deadlock-free" and a.timing == "untimed":
+        return untimed_deadlock_goals(name, a.negated)
     if a.kind == "terminates":
         if a.negated:
             return (Goal.violation(terminated, says(f"{name} has terminated")),)
@@ -146,8 +167,10 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     spec_name = a.other if impl is left else a.subject
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
+    failures = a.semantic_model in FAILURES_MODELS
     if impl is left or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
-        goals = (_refinement_goal(a, name, spec_name or ""),)
+        spec_text = spec_name or ""
+        goals = _failures_goals(a, name, spec_text) if failures else (_refinement_goal(a, name, spec_text),)
     inclusion = a.kind == "equals" or impl is right
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
@@ -208,6 +231,55 @@ def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
     return Goal.violation(violated, describe, claim=claim)
 
 
+def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
+    """`M refines Q in the failures [divergences] model`, M on the left (docs/semantics.md §7.12):
+    traces refinement, then no stable refusal of M that Q cannot make after the same trace, then (in
+    the failures-divergences model, Q being divergence-free) no divergence of M."""
+    divergences = a.semantic_model == "failures divergences"
+    made: dict[int, tuple[MonitorExtension, Refusals]] = {}
+
+    def refusals(system: TransitionSystem) -> Refusals:
+        ext = system.extension
+        assert isinstance(ext, MonitorExtension)
+        if id(ext) not in made:
+            made[id(ext)] = (ext, Refusals(ext, divergences, spec))
+        return made[id(ext)][1]
+
+    def refused(system: TransitionSystem) -> z3.BoolRef:
+        return refusals(system).violated(system)
+
+    def describe(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        return refusals(unroller.system).describe(unroller, model, k, spec)
+
+    traces = _refinement_goal(a, name, spec)
+    claim = f"every trace is a trace of {spec}, and every stable refusal one {spec} can make after it"
+
+    def either(system: TransitionSystem) -> z3.BoolRef:  # searched together: the shortest of either kind first
+        found = [traces.target(system), refused(system)]
+        return z3.Or(found + [diverges(system)] if divergences and a.negated else found)
+
+    def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        if true_at(unroller, model, traces.target(unroller.system), k):
+            return traces.describe(unroller, model, k)
+        if true_at(unroller, model, refused(unroller.system), k):
+            return describe(unroller, model, k)
+        return _describe_divergence(unroller, model, k)
+
+    def details(unroller: Unroller, model: z3.ModelRef, k: int) -> dict[str, object]:
+        if true_at(unroller, model, refused(unroller.system), k):
+            return {"refusal": refusals(unroller.system).refused(unroller, model, k)}
+        return {}
+
+    if a.negated:
+        more: dict[str, object] = dict(prepare=watch_loops, unprovable=unbounded_loops) if divergences else {}
+        return (Goal.witness(either, which, sought=f"a trace, refusal or divergence {spec} does not allow",
+                             claim=claim, failures=True, details=details, **more),)
+    goals: tuple[Goal, ...] = (Goal.violation(either, which, claim=claim, failures=True, details=details),)
+    if divergences:
+        goals += divergence_goals(name, False)
+    return goals
+
+
 def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
     def lookup(name: str) -> Definition | None:
         # Blocks that seem to define the name first (their syntax errors are reported), then the
@@ -233,7 +305,8 @@ def _literals(project: ast.Project) -> dict[str, EnumValue]:
         if isinstance(t, ast.EnumType):
             for i, lit in enumerate(t.literals):
                 value = EnumValue(t.name, i, f"{t.name}::{lit}")
-                for key in (f"{t.name}::{lit}", f"{t.qname}::{lit}", f"{t.name}_{lit}"):
+                mangled = f"{t.qname.replace('::', '_')}_{lit}"  # RoboTool's `pkg_E_L`
+                for key in (f"{t.name}::{lit}", f"{t.qname}::{lit}", f"{t.name}_{lit}", mangled):
                     out[key] = value
     return out
 

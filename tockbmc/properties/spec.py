@@ -556,6 +556,7 @@ class Semantics:
     # events they do not name (`RUN(Events)`, a hidden `Events`) can be probed.
     alphabet: list[tuple[Event, int]] = field(default_factory=list)
     _forced: dict[Proc, Proc] = field(default_factory=dict)
+    timed: bool = True  # False in RoboTool's untimed semantics: no term ever does `tock`
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
         if not isinstance(p, Thunk):
@@ -670,6 +671,8 @@ class Semantics:
         """Successors of p on visible event e (tock included); maximal progress is the caller's."""
         p = self.force(p)
         tock = e == TOCK
+        if tock and not self.timed:
+            return []
         if isinstance(p, Stop):
             return [p] if tock and p.timed else []
         if isinstance(p, (Skip, Omega)):
