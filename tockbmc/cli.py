@@ -148,9 +148,10 @@ def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> 
 
 
 def default_jobs() -> int:
-    """Half the cores: each check already keeps two busy (BMC, and Spacer in a child process).  On
-    two cores `-j 2` measured no faster than `-j 1` on RoboTool's suite (28.1 s against 28.5 s)."""
-    return max(1, (os.cpu_count() or 1) // 2)
+    """The number of cores.  Measured on two cores, idle, RoboTool's suite (`benchmarks/conformance.py
+    --timeout 20`): 107 s with `-j 2` against 200 s with `-j 1` (session 7), since many checks
+    leave the second core idle (Spacer does not apply, or a check waits out its timeout)."""
+    return max(1, os.cpu_count() or 1)
 
 
 @cli.command()
@@ -184,9 +185,8 @@ def default_jobs() -> int:
               metavar="FILE.html", help="Also write the results as one self-contained HTML page: the verdict table, "
                                         "the scope, and each trace as a sequence diagram beside its steps.")
 @click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
-              help="Decide the assertions in N worker processes (default: half the cores, since each check runs "
-                   "Spacer beside BMC in a second process; on two cores, 1); 1 decides them in this process.  The "
-                   "results and their order are the same.")
+              help="Decide the assertions in N worker processes (default: the number of cores); 1 decides them "
+                   "in this process.  The results and their order are the same.")
 @click.option("--dask", "dask_address", default=None, metavar="ADDRESS",
               help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
                    "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
