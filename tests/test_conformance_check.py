@@ -38,11 +38,6 @@ DIFFERENCES = {
                     "instantiation'), so both machines output VD and ctrl0 does e1.out.VD first"),
     ("test12", "A2"): (
         "violated", "as A1: CC of stm_ref0 set to VA and of stm_ref1 to VB, one value per declaration"),
-    ("AlphaAlgorithm", "a6"): (
-        "violated", "the case's instantiation defines Mathematics_floor(x) = x, a real for floor's nat result "
-                    "(FDR's reals are integers), which tockbmc refuses, so floor stays uninterpreted and "
-                    "Avoid's wait(floor(random() * 360 / av)) may last any time; the interpreter cannot replay "
-                    "the trace (uninterpreted floor). Loads since sets and tuples are supported: not yet studied"),
     ("clocks5", "A0"): (
         "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2, so its trace "
                     "<opACall, tock, tock, term.out> is not one of Spec's: "

@@ -43,7 +43,10 @@ CASES = os.environ.get("TOCKBMC_DIFF_CASES")
 
 
 def _settings(default: int) -> settings:
-    return settings(max_examples=int(CASES or default), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    # The same examples in every default run (`derandomize`): a case can cost 1 s or 30 s, and the
+    # suite's time must not depend on the draw; TOCKBMC_DIFF_CASES=N draws N afresh.
+    return settings(max_examples=int(CASES or default), deadline=None, derandomize=CASES is None,
+                    suppress_health_check=[HealthCheck.too_slow])
 
 
 @_settings(18)

@@ -315,6 +315,7 @@ class Evaluator:
             anything = z3.Function(f"{f.qname}.outside", *sorts, sort_of(f.result))
             args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
             pre = z3.And([inner.scalar(c) for c in f.preconditions])
+            self.side += domain(anything(*args), f.result, Ranges(), f.qname)  # any value, but of its type
             return z3.If(pre, defined, anything(*args))
         # Uninterpreted: any function meeting its pre/postconditions (records and tuples passed
         # and returned in their datatype).
@@ -322,6 +323,9 @@ class Evaluator:
         fn = z3.Function(f.qname, *sorts, sort_of(f.result))
         args = [pack(a, p.type) for a, p in zip(args, f.parameters)]
         packed = fn(*args)
+        # Whatever the function, its result is a value of its type: a natural is not negative, an
+        # enumeration's value one of its literals (without this, a call could answer 31 for a Status).
+        self.side += domain(unpack(packed, f.result), f.result, Ranges(), f.qname)
         if parts(f.result):
             if f.postconditions:
                 raise Unsupported(e.pos, "postconditions of functions returning records or tuples are not encoded yet")
