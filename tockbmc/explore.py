@@ -20,7 +20,7 @@ from fractions import Fraction
 import z3
 
 from tockbmc.bmc.regions import Region, Witness, carried, condition_text, region, simplified
-from tockbmc.bmc.witness import decode, initial_choices, scalar_text
+from tockbmc.bmc.witness import decode, initial_choices, python_value, scalar_text
 from tockbmc.check import DEFAULT_BOUND, own_z3_context, replay_trace
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
@@ -150,10 +150,10 @@ class _Explore:
                 if name not in params:
                     params[name], display[name] = symbol, shown
             assume += [f for f in facts if not any(f.eq(g) for g in assume)]
-            builds.append((goal, build))
+            builds.append((goal, build, probe))
         cubes: list[z3.BoolRef] = []
-        for goal, build in builds:
-            why_not = goal.unprovable(build([])) if goal.unprovable is not None else None
+        for goal, build, probe in builds:
+            why_not = goal.unprovable(probe) if goal.unprovable is not None else None
             r = region(build, goal.target, self.bound, list(params.values()),
                        [*assume, *(z3.Not(c) for c in cubes)], self.left(),
                        induction=goal.stateless and why_not is None)
@@ -198,9 +198,12 @@ class _Explore:
                  for n, s in params.items()}
         by_type, by_path = dict(setup.ranges.by_type), dict(setup.ranges.by_path)
         for name in self.plan.ranges:
-            low, high = (_number(model, f"range[{name}].{end}") for end in ("low", "high"))
-            if low is not None and high is not None:
-                (by_path if is_path(name) else by_type)[name] = Range(low, high)
+            low, high = params.get(f"range[{name}].low"), params.get(f"range[{name}].high")
+            if low is not None and high is not None:  # a range the formulas use: its bounds at this point
+                t = ast.REAL if low.sort() == z3.RealSort() else ast.INT
+                lo, hi = python_value(low, model, t), python_value(high, model, t)
+                assert isinstance(lo, (int, Fraction)) and isinstance(hi, (int, Fraction))
+                (by_path if is_path(name) else by_type)[name] = Range(Fraction(lo), Fraction(hi))
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), Ranges(by_type, by_path),
                                 setup.constants)
         return {"depth": w.depth, "point": point, "trace": trace, "replayed": replayed}
@@ -272,16 +275,6 @@ def _any(system: TransitionSystem, templates: list, r: Region, inside: list[z3.B
         if result != z3.unsat:
             return False
     return True
-
-
-def _number(model: z3.ModelRef, name: str) -> Fraction | None:
-    for sort in (z3.IntSort(), z3.RealSort()):
-        v = model.eval(z3.Const(name, sort), model_completion=False)
-        if z3.is_int_value(v):
-            return Fraction(v.as_long())  # type: ignore[attr-defined]
-        if z3.is_rational_value(v):
-            return Fraction(v.as_fraction())  # type: ignore[attr-defined]
-    return None
 
 
 def _parameters(system: TransitionSystem, ranges: Sequence[str]) -> tuple[dict[str, tuple[z3.ExprRef, str]], list[z3.BoolRef]]:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import z3
 
-from tockbmc.bmc.engine import Status, _Clock
+from tockbmc.bmc.engine import Clock, Status
 from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import leaves
@@ -60,7 +60,7 @@ def nondeterminism(system: TransitionSystem, bound: int, timeout: float | None =
     that both runs start from instead of the initial one: a reachable configuration where the next
     step is open (`properties.determinism`), from which a short search often finds the two runs
     that the search from the start would need many more steps for."""
-    clock = _Clock(timeout)
+    clock = Clock(timeout)
     a, b = Unroller(system, "A."), Unroller(system, "B.")
     solver = z3.Solver()
     if start is None:

@@ -57,7 +57,7 @@ class Outcome:
     invariant: str = ""  # for a proof by invariant: the invariant, in the model's names
 
 
-class _Clock:
+class Clock:
     """The time left of one search, given to each solver call (Z3's timeout is per call)."""
 
     def __init__(self, timeout: float | None):
@@ -77,7 +77,7 @@ class _Clock:
 class _Induction:
     """The step case of k-induction, extended one configuration at a time."""
 
-    def __init__(self, system: TransitionSystem, target: z3.BoolRef, clock: _Clock):
+    def __init__(self, system: TransitionSystem, target: z3.BoolRef, clock: Clock):
         self.system, self.target, self.clock = system, target, clock
         self.unroller = Unroller(system)
         self.solver = z3.Solver()
@@ -119,7 +119,7 @@ def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | N
     `stop` is asked before each depth; when it says so, the search ends `unknown` (another
     engine has decided).  `progress` is told each depth cleared (for a display; it must be quick).
     """
-    clock = _Clock(timeout)
+    clock = Clock(timeout)
     goal = target(system)
     trans = system.trans()
     u = Unroller(system)
@@ -160,7 +160,7 @@ def _visible(u: Unroller, model: z3.ModelRef, depth: int) -> int:
 
 
 def _fewest_visible(u: Unroller, goal: z3.BoolRef, bound: int, solver: z3.Solver, k: int,
-                    model: z3.ModelRef, clock: _Clock, progress: Progress | None) -> Outcome:
+                    model: z3.ModelRef, clock: Clock, progress: Progress | None) -> Outcome:
     """From a counterexample at depth k, one with the fewest visible steps within `bound`."""
     best, depth = _visible(u, model, k), k
     d = k

@@ -24,7 +24,7 @@ from fractions import Fraction
 
 import z3
 
-from tockbmc.bmc.engine import Progress, Status
+from tockbmc.bmc.engine import Clock, Progress, Status
 from tockbmc.bmc.portfolio import decide
 from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.encodings.terms import constants
@@ -45,32 +45,16 @@ class Witness:
 
 @dataclass
 class Region:
-    """Parameter values for which the target is reachable within `cleared` steps (or `bound`)."""
+    """Parameter values for which the target is reachable within the bound."""
 
     cubes: list[z3.BoolRef] = field(default_factory=list)  # each an under-approximation: all its points reach the target
     witnesses: list[Witness] = field(default_factory=list)  # one run per cube, in the order found
     complete: bool = False  # no point outside the cubes reaches the target within the bound
-    cleared: int = -1  # the deepest depth searched to the end (outside the cubes: no run of up to this many steps)
     reason: str = ""  # why it is not complete
     proof: str = ""  # when complete for every length, not only to the bound: how that was shown
-    invariant: str = ""  # the invariant of such a proof, in the model's names
 
     def formula(self) -> z3.BoolRef:
         return z3.Or(self.cubes) if self.cubes else z3.BoolVal(False)
-
-
-class _Clock:
-    def __init__(self, timeout: float | None):
-        self.deadline = None if timeout is None else time.monotonic() + timeout
-
-    def arm(self, solver: z3.Solver) -> bool:
-        if self.deadline is None:
-            return True
-        left = self.deadline - time.monotonic()
-        if left <= 0:
-            return False
-        solver.set("timeout", max(1, int(left * 1000)))
-        return True
 
 
 def project(formula: z3.BoolRef, keep: Sequence[z3.ExprRef], model: z3.ModelRef) -> z3.BoolRef:
@@ -111,12 +95,10 @@ def region(system: Callable[[Sequence[z3.BoolRef]], TransitionSystem], target: T
         outcome = decide(s, target, bound, left, induction, progress=progress)
         if outcome.status == Status.UNKNOWN:
             found.reason = outcome.reason or "unknown"
-            found.cleared = outcome.depth - 1
             return found
         if outcome.status != Status.FOUND:
-            found.complete, found.cleared = True, bound
+            found.complete = True
             found.proof = (outcome.reason or "") if outcome.status == Status.PROVED else ""
-            found.invariant = outcome.invariant
             return found
         u, model = outcome.unroller, outcome.model
         assert u is not None and model is not None
@@ -124,7 +106,7 @@ def region(system: Callable[[Sequence[z3.BoolRef]], TransitionSystem], target: T
         cube = project(z3.And(_path(u, outcome.depth, target)), params, model)
         found.cubes.append(cube)
         if z3.is_true(cube) or not params:  # every point reaches it
-            found.complete, found.cleared = True, bound
+            found.complete = True
             return found
         if len(found.cubes) >= MAX_CUBES:
             found.reason = f"more than {MAX_CUBES} pieces"
@@ -144,11 +126,11 @@ def carried(system: TransitionSystem, target: Target, depth: int,
     """The values a field takes in runs of exactly `depth` steps that reach `target`, at a step
     where one of `choices(u, i)` holds (a move, and the field's term at step i): a region over
     the symbol `value`."""
-    clock = _Clock(timeout)
+    clock = Clock(timeout)
     u = Unroller(system)
     sample = choices(u, 0)
     if not sample:
-        return Region(complete=True, cleared=depth)
+        return Region(complete=True)
     v = z3.FreshConst(sample[0][1].sort(), "carried")
     taken = [z3.And(when, v == value) for i in range(depth) for when, value in choices(u, i)]
     path = [*_path(u, depth, target), *assume, z3.Or(taken)]
@@ -174,7 +156,7 @@ def carried(system: TransitionSystem, target: Target, depth: int,
             found.reason = f"more than {MAX_CUBES} pieces"
             return found
         solver.add(z3.Not(cube))
-    found.complete, found.cleared = True, depth
+    found.complete = True
     return found
 
 
