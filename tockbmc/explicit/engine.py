@@ -354,6 +354,10 @@ class Search:
         return None
 
 
+    def nearest_divergence(self) -> Hashable | None:
+        """The explored node nearest the start on a cycle of internal steps (a divergence)."""
+        return self.nearest_cycle(lambda s: s.kind == "internal")
+
     def nearest_cycle(self, edge: Callable[[Step], bool]) -> Hashable | None:
         """The explored node nearest the start (fewest visible steps) that lies on a cycle of steps
         for which `edge` holds: the nodes of strongly connected components with a cycle (Tarjan's
@@ -667,7 +671,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             found_at = search.depth[hit[0]]
             search.reset()  # explore everything: a divergence nearer the start is the shorter witness
             search.run(lambda key, succ: None)
-            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            loop = search.nearest_divergence()
             if loop is not None and search.depth[loop] < found_at:
                 return result(Verdict.HOLDS, f"{name} can repeat internal steps for ever (divergence), which "
                                              f"{spec} cannot", search.trace(loop))
@@ -690,7 +694,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                               {"refusal": sorted(set(refused[hit[0]]))})
             return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
         if refusals is not None and a.semantic_model == "failures divergences":
-            loop = search.nearest_cycle(lambda s: s.kind == "internal")
+            loop = search.nearest_divergence()
             if loop is not None:
                 return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                               f"{name} can repeat internal steps for ever (divergence), which {spec} cannot",
@@ -734,7 +738,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                    "termination as a deadlock" if terminated(hit[0]) else
                    f"{name} has not terminated and refuses every event")
             return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
-        loop = search.nearest_cycle(lambda s: s.kind == "internal")
+        loop = search.nearest_divergence()
         if loop is not None:
             return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                           f"{name} can repeat internal steps for ever (divergence)", search.trace(loop))
@@ -758,7 +762,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         return _deterministic(search, name, negated, result, scope)
     if kind == "divergence-free":
         search.run(lambda key, succ: None)  # explore, then look for a cycle of internal steps
-        loop = search.nearest_cycle(lambda s: s.kind == "internal")
+        loop = search.nearest_divergence()
         if loop is not None:
             return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                           f"{name} can repeat internal steps for ever (divergence)", search.trace(loop))
@@ -967,7 +971,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
                 if successors not in visited:
                     visited.add(successors)
                     todo.append((successors, (*trace, event)))
-    loop = search.nearest_cycle(lambda s: s.kind == "internal")
+    loop = search.nearest_divergence()
     if loop is not None:
         return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                       f"{name} can repeat internal steps for ever (divergence); a process that can diverge is not "

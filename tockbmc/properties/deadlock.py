@@ -24,7 +24,7 @@ from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import quantified
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
-from tockbmc.properties.goals import Goal, true_at
+from tockbmc.properties.goals import Describe, Goal, true_at
 
 N = TypeVar("N", bound=Hashable)
 
@@ -276,9 +276,15 @@ def deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
                              sought="a deadlock (time only, or divergence)"),)
     return (Goal.violation(stopped, _describe,
                            claim="no configuration offers only tock for ever"),
-            Goal.violation(diverges, _describe, prepare=watch_loops,
-                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
-                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops))
+            _no_divergence(_describe))
+
+
+def _no_divergence(describe: Describe) -> Goal:
+    """The goal every deadlock- and divergence-freedom check ends with: no lasso of internal steps,
+    searched only when the data-free graph has a cycle of them."""
+    return Goal.violation(diverges, describe, prepare=watch_loops,
+                          claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
+                          skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops)
 
 
 NO_INTERNAL_CYCLE = ("no run can repeat internal steps for ever (even with data ignored, internal steps form no "
@@ -292,9 +298,7 @@ def divergence_goals(name: str, negated: bool) -> tuple[Goal, ...]:
     if negated:
         return (Goal.witness(diverges, _describe_divergence, prepare=watch_loops, applies=may_diverge,
                              skipped=NO_INTERNAL_CYCLE, sought="a divergence", unprovable=unbounded_loops),)
-    return (Goal.violation(diverges, _describe_divergence, prepare=watch_loops,
-                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
-                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops),)
+    return (_no_divergence(_describe_divergence),)
 
 
 def refuses_everything(system: TransitionSystem) -> z3.BoolRef:
@@ -327,6 +331,4 @@ def untimed_deadlock_goals(name: str, negated: bool) -> tuple[Goal, ...]:
                              sought="a deadlock (a refusal of every event, termination included, or divergence)"),)
     return (Goal.violation(refuses_everything, _describe_untimed,
                            claim="no configuration refuses every event (termination included)"),
-            Goal.violation(diverges, _describe_untimed, prepare=watch_loops,
-                           claim="no run repeats a configuration by internal steps alone", applies=may_diverge,
-                           skipped=NO_INTERNAL_CYCLE, unprovable=unbounded_loops))
+            _no_divergence(_describe_untimed))
