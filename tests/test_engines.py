@@ -27,7 +27,7 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.explicit.engine import check_explicit
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Proof, Verdict
-from tockbmc.properties.goals import terminated
+from tockbmc.properties.goals import terminated, true_at
 
 ASSERTIONS = """\
 assertion stops: Counter does not terminate.
@@ -152,3 +152,21 @@ def test_the_portfolio_reports_an_invariant_proof(project: Project) -> None:
     system = _system(project)
     outcome = decide(system, _x_above_3, bound=3, induction=True)
     assert outcome.status == Status.PROVED and outcome.method in ("k-induction", "invariant")
+
+
+def test_a_quantified_formula_is_read_in_a_run_even_where_the_model_cannot_evaluate_it(project: Project) -> None:
+    """A run's model leaves a quantified formula unevaluated (a sequence's elements, a function's
+    axioms); `true_at` then proves it closed.  It used to read every such formula as false, so a
+    refinement goal found by BMC fell through to the divergence explanation of a system that does
+    not watch for loops, and crashed (`KeyError: 'loop.saved'`, found by benchmarks/differential.py)."""
+    system = _system(project)
+    outcome = bmc(system, terminated, bound=20)
+    assert outcome.unroller is not None and outcome.model is not None
+    x = system.cur[names.variable("Counter", "x")]
+    n, seq = z3.Int("n"), z3.Unit(x)  # the sequence <x>: every element at most 3, or above 3
+    inside = z3.And(n >= 0, n < z3.Length(seq))
+    at_most_3 = z3.ForAll([n], z3.Implies(inside, seq[n] <= 3))
+    above_3 = z3.ForAll([n], z3.Implies(inside, seq[n] > 3))
+    assert not z3.is_true(outcome.model.eval(outcome.unroller.at(at_most_3, 9), model_completion=True))
+    assert true_at(outcome.unroller, outcome.model, at_most_3, 9)
+    assert not true_at(outcome.unroller, outcome.model, above_3, 9)

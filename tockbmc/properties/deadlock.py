@@ -227,8 +227,13 @@ def unbounded_loops(system: TransitionSystem) -> str | None:
 
 
 def watch_loops(system: TransitionSystem) -> None:
-    if may_diverge(system) and not any(isinstance(e, LoopWatch) for e in system.extensions):
+    if may_diverge(system) and not watching_loops(system):
         system.add(LoopWatch(system))
+
+
+def watching_loops(system: TransitionSystem) -> bool:
+    """Whether the system records a configuration to find a lasso of internal steps."""
+    return any(isinstance(e, LoopWatch) for e in system.extensions)
 
 
 def diverges(system: TransitionSystem) -> z3.BoolRef:

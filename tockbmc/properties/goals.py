@@ -21,6 +21,8 @@ from tockbmc.model.result import Verdict
 from tockbmc.properties.process import Context
 from tockbmc.properties.spec import Proc
 
+_CLOSED_FORMULA_MS = 2000  # to decide a quantified formula whose values the model fixed
+
 Describe = Callable[[Unroller, z3.ModelRef, int], str]  # what reaching the target at step k means, for the report
 
 
@@ -99,8 +101,18 @@ def stuck(system: TransitionSystem) -> z3.BoolRef:
 
 
 def true_at(unroller: Unroller, model: z3.ModelRef, term: z3.BoolRef, k: int) -> bool:
-    """Whether a formula over the template configuration holds at step k of the run `model` describes."""
-    return z3.is_true(model.eval(unroller.at(term, k), model_completion=True))
+    """Whether a formula over the template configuration holds at step k of the run `model` describes.
+
+    A quantified formula (a sequence's elements, a function's axioms) may not evaluate to a
+    truth value in a model; it is then closed (the model's values put in) and proved, briefly:
+    "unknown" counts as not holding."""
+    value = model.eval(unroller.at(term, k), model_completion=True)
+    if z3.is_true(value) or z3.is_false(value):
+        return z3.is_true(value)
+    solver = z3.Solver(ctx=value.ctx)
+    solver.set(timeout=_CLOSED_FORMULA_MS)
+    solver.add(z3.Not(value))
+    return solver.check() == z3.unsat
 
 
 def number_at(unroller: Unroller, model: z3.ModelRef, term: z3.ExprRef, k: int) -> int:

@@ -24,6 +24,7 @@ from tockbmc.properties.deadlock import (
     unbounded_loops,
     untimed_deadlock_goals,
     watch_loops,
+    watching_loops,
 )
 from tockbmc.properties.failures import FAILURES_MODELS, Refusals
 from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
@@ -261,7 +262,7 @@ def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
     def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
         if true_at(unroller, model, traces.target(unroller.system), k):
             return traces.describe(unroller, model, k)
-        if true_at(unroller, model, refused(unroller.system), k):
+        if true_at(unroller, model, refused(unroller.system), k) or not watching_loops(unroller.system):
             return describe(unroller, model, k)
         return _describe_divergence(unroller, model, k)
 
