@@ -30,13 +30,15 @@ from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool]) -> tuple[int, list | None]:
+def run(job: tuple[int, float, float, bool, bool, bool]) -> tuple[int, list | str | None]:
     seed, timeout, controllers, specs, data, untimed = job  # past the timeout an outcome is unknown, so not comparable
     rct, assertions = random_case(seed, controllers, specs, data, untimed)
     try:
         return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
     except tockbmc.ModelError:
         return seed, None
+    except Exception as exc:  # an internal error is a finding too: reported with its seed, the run goes on
+        return seed, f"{type(exc).__name__}: {exc}"
 
 
 def main() -> None:
@@ -64,15 +66,20 @@ def main() -> None:
             if outcomes is None:
                 counts["model rejected"] += 1
                 continue
+            if isinstance(outcomes, str):
+                counts["crashed"] += 1
+                print(f"CRASH seed {seed}: {outcomes}", flush=True)
+                continue
             counts["cases"] += 1
             _count(seed, outcomes, counts)
-            if counts["cases"] % 500 == 0:
+            if counts["cases"] % 100 == 0:
                 print(f"... {counts['cases']} cases: {counts['agree']} agree, {counts['disagree']} disagree "
                       f"({time.perf_counter() - start:.0f} s)", flush=True)
     total = counts["agree"] + counts["disagree"]
     print(f"{counts['cases']} cases, {total} definite comparisons: {counts['agree']} agree, "
           f"{counts['disagree']} disagree; {counts['not comparable']} not comparable; "
-          f"{counts['model rejected']} models rejected; {time.perf_counter() - start:.0f} s")
+          f"{counts['model rejected']} models rejected; {counts['crashed']} crashed; "
+          f"{time.perf_counter() - start:.0f} s")
 
 
 def _count(seed: int, outcomes: list, counts: collections.Counter[str]) -> None:
