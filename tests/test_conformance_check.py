@@ -26,12 +26,12 @@ DIFFERENCES = {
     ("test8", "A2"): (
         "violated", "controller variable x has no initial value: semantics.md §2.14 lets the environment choose "
                     "it (any value of core_nat=0..2), so M can output e1.1; RoboTool's memory starts it at nat's "
-                    "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes; and with x at 0, M "
-                    "terminates with S1 (semantics.md §5.6: with its first machine) before S2's e2 output, "
-                    "where TSpec's SKIP follows e2 (RoboTool's M terminates with its last machine)"),
+                    "default 0 (Memory_x(0) in its generated CSP), as TSpec assumes; and with x at 0, TSpec still "
+                    "allows e2.out.0 (RoboTool propagates S1's write of x to S2's copy late), where tockbmc's "
+                    "shared x is one variable (semantics.md §2.13), so S2 outputs e2.out.2 only"),
     ("test8", "A1"): (
         "violated", "untimed, for the two reasons of A2: x starts at any value of core_nat (M outputs e1.1 first), "
-                    "and with x at 0 M terminates with S1 before S2's e2 output, where Spec's SKIP follows e2"),
+                    "and with x at 0 Spec allows e1.out.0, e2.out.0, ✓, which needs RoboTool's late propagation"),
     ("test12", "A1"): (
         "violated", "the assertion sets constant CC of stm_ref0 to VC and CC of stm_ref1 to VD: one declaration "
                     "(I::CC) given two values, and tockbmc has one value per declaration (DESIGN.md, 'RoboTool's "

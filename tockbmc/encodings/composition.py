@@ -78,6 +78,9 @@ class Network:
     # False in RoboTool's untimed semantics (docs/semantics.md §7.11): the machines are the model
     # rewritten by `model.untimed` and `tock` is never possible.
     timed: bool = True
+    # A module's `terminate` is hidden (RoboTool's module ends `\ {|terminate|}`): it terminates
+    # with an internal step, and its trace ends in ✓ alone (docs/semantics.md §5.6).
+    hidden_termination: bool = False
 
     def route(self, component: int, event: str) -> tuple[Link, str] | None:
         """The link that carries a component's event, and which end the component is."""
@@ -268,4 +271,4 @@ def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
         return of_machine(element, defined)
     if isinstance(element, ast.Controller):
         return of_controller(element)
-    return of_module(element)
+    return replace(of_module(element), hidden_termination=True)

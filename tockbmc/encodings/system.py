@@ -15,6 +15,7 @@ these terms at step k; this module never names a step other than the template.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Protocol
@@ -42,6 +43,8 @@ from tockbmc.model.config import constant_setting, declaration_key
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
 
+_MAX_TERMINATIONS = 64  # combinations of final states, one `terminate` move each
+
 
 @dataclass(frozen=True)
 class Move:
@@ -49,8 +52,9 @@ class Move:
 
     kind: internal | event | tock.  `parts` are the (component, edge) pairs
     that move together: none for tock and for the environment's side of a
-    buffer, one for a machine's own step, two for a synchronous connection.
-    role: local | sync | write | read | env-write | env-read | tock.
+    buffer, one for a machine's own step, two for a synchronous connection, one
+    per machine for the element's `terminate`.
+    role: local | sync | write | read | env-write | env-read | terminate | tock.
     """
 
     index: int
@@ -336,7 +340,9 @@ class TransitionSystem:
             for e in comp.automaton.edges:
                 if e.kind in ("tau", "wait"):
                     add("internal", "local", ((c, e),))
-                elif e.kind in ("call", "terminate"):
+                elif e.kind == "terminate":
+                    continue  # one joint move, below
+                elif e.kind == "call":
                     add("event", "local", ((c, e),))
                 else:
                     assert e.event is not None
@@ -372,8 +378,27 @@ class TransitionSystem:
                 add("event", "env-write", (), link)
             elif link.asynchronous and isinstance(link.receiver, External):
                 add("event", "env-read", (), link)
+        for parts in self._terminations():
+            add("internal" if self.network.hidden_termination else "event", "terminate", parts)
         add("tock", "tock")
         return moves
+
+    def _terminations(self) -> list[tuple[tuple[int, Edge], ...]]:
+        """The element's `terminate`: every machine at a final state takes its `terminate` edge at
+        once (docs/semantics.md §5.6: RoboTool synchronises `terminate` across the machines of a
+        controller and the controllers of a module).  One move per choice of final state."""
+        per_machine = [[(c, e) for e in comp.automaton.edges if e.kind == "terminate"]
+                       for c, comp in enumerate(self.components)]
+        if not all(per_machine):
+            return []  # a machine without a final state never terminates, so neither does the element
+        count = 1
+        for edges in per_machine:
+            count *= len(edges)
+        if count > _MAX_TERMINATIONS:
+            raise Unsupported(self.components[0].machine.pos,
+                              f"{count} combinations of final states end the element: more than "
+                              f"{_MAX_TERMINATIONS} are not encoded")
+        return list(itertools.product(*per_machine))
 
     # ------------------------------------------------------------ effects of one move
 
@@ -458,7 +483,12 @@ class TransitionSystem:
             enabled.append(z3.BoolVal(False))
         choose: list[z3.BoolRef] = []
         link = m.link
-        if m.role == "local":
+        if m.role == "terminate":
+            for c, e in m.parts:
+                en, ch, _ = self._edge(c, e, None, post)
+                enabled += en
+                choose += ch
+        elif m.role == "local":
             c, e = m.parts[0]
             incoming = None
             if e.kind == "in" and e.event is not None and e.event.type is not None:
@@ -545,7 +575,7 @@ class TransitionSystem:
         return z3.Or([loc == x for x in sorted(locations)]) if locations else z3.BoolVal(False)
 
     def halted(self) -> z3.BoolRef:
-        """Some machine has terminated, so the whole network has (docs/semantics.md §4.4, §5.6)."""
+        """The element has terminated: its machines terminate together (docs/semantics.md §4.4, §5.6)."""
         return self.once("halted", lambda: z3.Or([self.located(c, comp.automaton.terminated)
                                                   for c, comp in enumerate(self.components)]))
 

@@ -82,7 +82,7 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   A controller's event left unconnected by the module stays visible under the controller's name.
   Values print as tockbmc prints them: records `(f=v, g=w)`, enumeration literals `Type::LIT`,
   booleans `true`/`false`, reals as integers when whole, else as a decimal when exact, else `p/q`.
-* **Networks.** The element terminates with its first machine's `terminate`. A machine connected
+* **Networks.** The element terminates when every machine is at a final state, all at once. A machine connected
   to itself synchronously, one-to-many connections, bidirectional connections and two buffers in
   series are `NotInterpretable`.
 * **Clocks** saturate when that is unobservable: if every read of a clock (or `sinceEntry`) is a
@@ -700,6 +700,8 @@ class Interpreter:
         self._tuples: dict[tuple, tuple] = {}
         self._shared_owners: set[str] = set()
         self.network = not isinstance(element, ast.StateMachine)
+        # a module's terminate is hidden: an internal step, then ✓ (docs/semantics.md §5.6)
+        self.hidden_termination = isinstance(element, ast.Module)
         self._shared_vars: list[ast.Variable] = []
 
         if isinstance(element, ast.StateMachine):
@@ -1959,10 +1961,7 @@ class Interpreter:
                     steps.append(Step("event", Event(None if args else base, (base,), tuple(args)),
                                       self._config(config, [(i, frames, upd)])))
                 elif kind == "term":
-                    _, (frames, upd) = m
-                    base = f"{self.ename}::terminate"
-                    steps.append(Step("event", Event(base, (base,), ()),
-                                      self._config(config, [(i, frames, upd)], done=True)))
+                    continue  # the element's terminate: every machine at once, below
                 elif kind == "out":
                     _, port, t, v, (frames, upd) = m
                     link = self.out_link.get((i, port))
@@ -2016,6 +2015,7 @@ class Interpreter:
                                 lambda v, vis=link.vis, t=t, accept=accept, i=i: [  # type: ignore[misc]
                                     Step("event", self._event(vis, "in", t, v), self._config(config, [(i, frames, upd)]))
                                     for _note, (frames, upd) in accept(v)])
+        steps += self._terminations(config, moves)
         # the environment's side of asynchronous links
         for link in self.links:
             if not link.asynchronous or link.vis is None:
@@ -2037,6 +2037,19 @@ class Interpreter:
         if tock is not None:
             steps.append(Step("tock", TOCK, tock))
         return steps
+
+    def _terminations(self, config: Config, moves: list[list]) -> list[Step]:
+        """The element's `terminate`: once every machine is at a final state, all of them at once
+        (docs/semantics.md §5.6, as RoboTool synchronises `terminate`); one step per choice of final state."""
+        ends = [[m[1] for m in ms if m[0] == "term"] for ms in moves]
+        if not all(ends):
+            return []
+        base = f"{self.ename}::terminate"
+        event = None if self.hidden_termination else Event(base, (base,), ())
+        return [Step("internal" if event is None else "event", event,
+                     self._config(config, [(i, frames, upd) for i, (frames, upd) in enumerate(choice)], done=True),
+                     f"{self.ename} terminates" if event is None else "")
+                for choice in itertools.product(*ends)]
 
     def expand(self, config: Config) -> list[tuple[Config, list[Step]]]:
         """`config` with its steps, or (lazy mode) where its steps read one of its Unknowns, the
