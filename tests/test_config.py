@@ -351,3 +351,50 @@ def test_every_path_to_a_shared_variable_bounds_it_in_both_engines(path: str) ->
         events = [s["event"] for s in r["trace"] if s["event"]]
         assert events == ["M::e1.out.0", "M::e2.out.0", "✓"], (engine, events)
         assert r["reason"].startswith("TSpec has this trace"), r["reason"]
+
+
+# Two instances of one machine, each with its own value for the constant its used interface holds.
+TWO_INSTANCES = """
+enumeration Value { VA VB VC }
+interface I { const CC : Value }
+controller ctrl0 {
+  event e1 : Value
+  event e2 : Value
+  sref stm_ref0 = STM
+  sref stm_ref1 = STM
+  connection stm_ref0 on e to ctrl0 on e1
+  connection stm_ref1 on e to ctrl0 on e2
+}
+stm STM {
+  event e : Value
+  uses I
+  initial i0
+  final f0
+  transition t0 { from i0 to f0 action e!CC }
+}
+"""
+SPEC = """untimed csp Spec csp-begin
+Spec = (ctrl0::e1.out.Value_VB -> SKIP ||| ctrl0::e2.out.Value_VC -> SKIP) ; ctrl0::terminate -> SKIP
+csp-end
+"""
+
+
+@pytest.mark.parametrize("source", ["with constant", "instantiation"])
+def test_each_instance_of_a_machine_has_its_own_constants(tmp_path: Path, source: str) -> None:
+    """RoboTool names an instance's constant by its path (`const_ctrl0_stm_ref0_CC`), so two
+    instances of one machine can hold two values; tockbmc used to give the declaration one value
+    (the first instance's), and RoboTool's test12 A1/A2 were violated.  Both engines, both sources."""
+    if source == "with constant":
+        text = SPEC + ("untimed assertion A: ctrl0 equals Spec with constant CC of ctrl0::stm_ref0 set to Value::VB, "
+                       "and constant CC of ctrl0::stm_ref1 set to Value::VC.\n")
+    else:
+        text = SPEC + "untimed assertion A: ctrl0 equals Spec.\n"
+        (tmp_path / "instantiations.csp").write_text("const_ctrl0_stm_ref0_CC = Value_VB\n"
+                                                     "const_ctrl0_stm_ref1_CC = Value_VC\n")
+    write_files(tmp_path, {"m.rct": TWO_INSTANCES, "m.assertions": text})
+    for engine in ("bmc", "explicit"):
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--format", "json"])
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "holds", (engine, r)
+        assert (r["constants"]["stm_ref0::CC"], r["constants"]["stm_ref1::CC"]) == ("Value::VB", "Value::VC")
+        assert "I::CC" not in r["constants"], r["constants"]  # every instance has its own: not shown

@@ -552,7 +552,9 @@ stm A {
   event x : int
   initial i
   state s { entry x!1 }
+  final f
   transition t0 { from i to s }
+  transition t1 { from s to f }
 }
 stm BNow {
   event x : int
@@ -579,7 +581,8 @@ controller CNow {
 
 
 def test_rule12_sync_connection_is_one_internal_step(tmp_path) -> None:
-    """§2.12: x is a joint internal step at time 0; CNow terminates when BNow does."""
+    """§2.12: x is a joint internal step at time 0; CNow terminates once A and BNow are both at
+    final states (§5.6), A right after its output, BNow after res."""
     it = make(tmp_path, SYNC, "CNow")
     [c0] = it.initial()
     assert search(it, it.terminated) == ["CNow::res.out.1", "CNow::terminate"]
@@ -598,7 +601,9 @@ stm A {
   event x : int
   initial i
   state s { entry x!1 ; x!2 }
+  final f
   transition t0 { from i to s }
+  transition t1 { from s to f }
 }
 stm B {
   event x : int
@@ -634,19 +639,22 @@ controller CSync {
 
 def test_rule12_async_buffer_overwrites(tmp_path) -> None:
     """§2.12: asynchronously A writes 1 then 2 at time 0 (never blocking); B reads 2 at time 1.
-    Synchronously A blocks on x!1 until B is ready at time 1."""
+    Synchronously A blocks on x!1 until B is ready at time 1, and then on x!2 for ever, which B
+    never takes: B reaches its final state, A never does, so CSync never terminates (§5.6)."""
     it = make(tmp_path, ASYNC, "CAsync")
     assert search(it, it.terminated) == ["tock", "CAsync::res.out.2", "CAsync::terminate"]
     c = run_internal(it, it.initial()[0])
-    assert it.states(c) == {"A": "s", "B": "w0"} and names(it.steps(c)) == ["tock"]
+    assert it.states(c) == {"A": "f", "B": "w0"} and names(it.steps(c)) == ["tock"]
     it = make(tmp_path, ASYNC, "CSync")
-    assert search(it, it.terminated) == ["tock", "CSync::res.out.1", "CSync::terminate"]
+    assert search(it, lambda c: it.states(c)["B"] == "f") == ["tock", "CSync::res.out.1"]
+    assert search(it, it.terminated) is None
 
 
 def test_rule12_controller_and_module_events(tmp_path) -> None:
     """§2.12, §1: the controller's event is Ctrl::e.in.v; at module level the platform's event is
     Mod::e.in.v, joined directly to the controller although the connection is `(_async)` (RoboTool
-    buffers only connections between controllers: DESIGN.md); terminate is the element's."""
+    buffers only connections between controllers: DESIGN.md); terminate is the element's, and a
+    module's is hidden (an internal step, then ✓: §5.6)."""
     rct = """
 interface IE { event e : int }
 robotic platform RP { uses IE }
@@ -678,8 +686,8 @@ module Mod {
     c = settle(mod, mod.initial()[0])
     assert names(mod.steps(c)) == ["Mod::e.in.1", "tock"]  # only what the machine accepts: no buffer
     c = take(mod, c, "Mod::e.in.1")
-    assert names(mod.steps(c)) == ["Mod::terminate", "tock"]
-    assert search(mod, mod.terminated) == ["Mod::e.in.1", "Mod::terminate"]
+    assert [(s.kind, s.note) for s in mod.steps(c)] == [("internal", "Mod terminates")]  # urgent: no tock
+    assert search(mod, mod.terminated) == ["Mod::e.in.1"]
 
 
 def test_rule12_conformance_controller_c1(tmp_path) -> None:
@@ -689,7 +697,7 @@ def test_rule12_conformance_controller_c1(tmp_path) -> None:
     it = Interpreter(project.element("C1"), {"core_nat": (F(2), F(2))})  # type: ignore[arg-type]
     assert search(it, it.terminated) == ["C1::e.in.2", "C1::terminate"]
     mod = Interpreter(project.element("M"), {"core_nat": (F(2), F(2))})  # type: ignore[arg-type]
-    assert search(mod, mod.terminated) == ["M::e.in.2", "M::terminate"]
+    assert search(mod, mod.terminated) == ["M::e.in.2"]  # a module's terminate is hidden (§5.6)
 
 
 SHARED_VAR = """
@@ -698,7 +706,9 @@ stm W {
   requires SV
   initial i
   state s { entry sv = 3 }
+  final f
   transition t0 { from i to s }
+  transition t1 { from s to f }
 }
 stm R {
   requires SV

@@ -197,6 +197,8 @@ def _move_event(u: Unroller, m: Move, i: int, model: z3.ModelRef) -> str:
 def _note(u: Unroller, m: Move) -> str:
     """What an internal step does, for the dimmed context lines."""
     system = u.system
+    if m.role == "terminate":  # a module's: hidden, so an internal step (docs/semantics.md §5.6)
+        return f"{system.name} terminates"
     notes = []
     for c, e in m.parts:
         who = system.components[c].name

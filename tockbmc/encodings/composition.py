@@ -58,6 +58,7 @@ class Component:
 
     name: str
     automaton: Automaton
+    instance: tuple[str, ...] = ()  # instance names from the element checked (model/config.py `instance_key`)
 
     @property
     def machine(self) -> ast.StateMachine:
@@ -111,8 +112,8 @@ class _Flattener:
         self.platform: set[str] = set()
 
     def machine(self, m: ast.StateMachine, instance: str,
-                defined: dict[str, ast.OperationDef] | None = None) -> int:
-        self.components.append(Component(instance, compile_machine(m, defined)))
+                defined: dict[str, ast.OperationDef] | None = None, path: tuple[str, ...] = ()) -> int:
+        self.components.append(Component(instance, compile_machine(m, defined), path))
         return len(self.components) - 1
 
     def link(self, sender: Port | External, receiver: Port | External, asynchronous: bool, pos: ast.Pos) -> None:
@@ -131,12 +132,14 @@ class _Flattener:
     def require(self, c: int, m: ast.StateMachine, controller: str) -> None:
         """Bind the variables machine c requires to its controller's, else the platform's (docs/semantics.md §5.5).
 
-        A variable of an interface the machine provides is its own.  One that no
+        A variable of an interface the machine provides or uses is its own (RoboTool names a used
+        interface's constant after the instance: `const_test12_ctrl0_stm_ref0_CC`).  One that no
         enclosing element declares is shared by the controller's machines.
         """
         inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope]
+        own = (*m.provided_interfaces, *m.used_interfaces)
         for v in (*m.interface_variables, *inlined):
-            if v.owner in m.provided_interfaces or v.owner.rsplit("::", 1)[-1] in m.provided_interfaces:
+            if v.owner in own or v.owner.rsplit("::", 1)[-1] in own:
                 continue
             key = f"{controller}.{v.name}"
             if key not in self.shared and v.name in self.platform:
@@ -144,7 +147,7 @@ class _Flattener:
             self.shared.setdefault(key, v)
             self.scopes[(c, v.name)] = key
 
-    def controller(self, c: ast.Controller, prefix: str) -> tuple[dict[str, list[tuple[Port, bool]]],
+    def controller(self, c: ast.Controller, prefix: str, path: tuple[str, ...] = ()) -> tuple[dict[str, list[tuple[Port, bool]]],
                                                                   dict[str, list[tuple[Port, bool]]]]:
         """Add a controller's machines and internal links.
 
@@ -158,7 +161,7 @@ class _Flattener:
         self.share(c.variables, f"{prefix}{c.name}.")
         for mi in c.machines:
             label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
-            index[mi.name] = self.machine(mi.machine, f"{prefix}{label}", defined)
+            index[mi.name] = self.machine(mi.machine, f"{prefix}{label}", defined, (*path, mi.name))
             self.require(index[mi.name], mi.machine, f"{prefix}{c.name}")
         inputs: dict[str, list[tuple[Port, bool]]] = {}
         outputs: dict[str, list[tuple[Port, bool]]] = {}
@@ -227,7 +230,7 @@ def of_module(m: ast.Module) -> Network:
     ends: dict[str, tuple[ast.Controller, dict, dict]] = {}
     for ci in m.controllers:
         prefix = f"{ci.name}::" if len(m.controllers) > 1 else ""
-        ins, outs = f.controller(ci.controller, prefix)
+        ins, outs = f.controller(ci.controller, prefix, (ci.name,))
         ends[ci.name] = (ci.controller, ins, outs)
     used: set[tuple[str, str]] = set()
     for conn in m.connections:

@@ -39,7 +39,7 @@ from tockbmc.encodings.values import (
     sort_of,
 )
 from tockbmc.model import ast
-from tockbmc.model.config import constant_setting, declaration_key
+from tockbmc.model.config import constant_setting, declaration_key, instance_key
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
 
@@ -299,7 +299,7 @@ class TransitionSystem:
                         continue
                     # an inlined operation's constant is its own: opB's x2 is not opC's x2
                     own_name = names.constant(comp.name, f"{scope}().{v.name}" if scope else v.name)
-                    consts[id(v)] = self._constant(v, decl, key or own_name)
+                    consts[id(v)] = self._constant(v, decl, key or own_name, () if key else comp.instance)
                     if key is not None:
                         shared_consts[key] = consts[id(v)]
                     continue
@@ -317,9 +317,11 @@ class TransitionSystem:
                 if t is not None:
                     self._scalars(names.buffer_value(link.index), t)
 
-    def _constant(self, v: ast.Variable, decl: ast.Variable, name: str) -> Value:
+    def _constant(self, v: ast.Variable, decl: ast.Variable, name: str, instance: tuple[str, ...] = ()) -> Value:
         value = fresh(name, v.type)
-        given = constant_setting(self.settings, v, decl)  # keyed by declaration (model/config.py)
+        # this instance's value, else the declaration's (model/config.py)
+        given = self.settings.get(instance_key(instance, decl)) if instance else None
+        given = given if given is not None else constant_setting(self.settings, v, decl)
         expr = given if given is not None else decl.initial
         if expr is not None:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side, ranges=self.ranges).value(expr)))

@@ -109,6 +109,7 @@ from fractions import Fraction
 from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
+from tockbmc.model.config import instance_key
 from tockbmc.model.data import Product, text_of
 from tockbmc.model.untimed import untimed
 
@@ -866,9 +867,18 @@ class Interpreter:
         return s
 
     def _vkey(self, i: int, var: ast.Variable) -> tuple:
+        if var.kind == "interface" and self._own_interface(i, var):
+            return ("v", i, "#iface", var.name)
         if var.kind == "interface" or var.owner in self._shared_owners:
             return ("shared", var.name) if self.network else ("v", i, "#iface", var.name)
         return ("v", i, var.owner, var.name)
+
+    def _own_interface(self, i: int, var: ast.Variable) -> bool:
+        """A variable or constant of an interface the machine provides or uses is its own, one per
+        instance (RoboTool: `const_test12_ctrl0_stm_ref0_CC`); a required one is its controller's."""
+        m = self.insts[i].machine
+        own = (*m.provided_interfaces, *m.used_interfaces)
+        return var.owner in own or var.owner.rsplit("::", 1)[-1] in own
 
     def _slot(self, i: int, var: ast.Variable) -> int:
         s = self._slot_of.get(self._vkey(i, var))
@@ -1445,6 +1455,8 @@ class Interpreter:
         if info.var is None:
             return False, None
         names = [info.display, info.var.name]
+        if info.inst is not None and self.network:  # this instance's own value first (model/config.py)
+            names.insert(0, instance_key(tuple(self.insts[info.inst].local.split(".")), info.var))
         if info.inst is not None:
             m = self.insts[info.inst]
             names += [f"{m.name}::{info.var.name}", f"{m.machine.qname}::{info.var.name}",

@@ -303,6 +303,23 @@ class _Slot:
     variable: ast.Variable
     names: tuple[str, ...]
     in_operation: bool = False  # a constant a defined operation declares or requires
+    # The instance names from the checked element down to the machine or operation that holds the
+    # constant (`("stm_ref0",)`, `("ctrl", "stm_ref0")`); empty for the element's own constants.
+    instance: tuple[str, ...] = ()
+
+
+def instance_key(instance: tuple[str, ...], v: ast.Variable) -> str:
+    """The key of one instance's value for a constant: two instances of a machine declaration are
+    two constants in RoboTool (`const_test12_ctrl0_stm_ref0_CC`), each settable on its own."""
+    return f"{'::'.join(instance)}/{declaration_key(v)}"
+
+
+def _instances_named(setting: ast.ConstantSetting, element: Checked, slots: list[_Slot]) -> list[_Slot]:
+    """The constants `with constant c of P` sets when P is an instance path inside the checked
+    element (`ctrl0::stm_ref0` for controller `ctrl0`), one instance's constant each."""
+    heads = {element.qname, element.qname.rsplit("::", 1)[-1]}
+    return [s for s in slots if s.instance and s.variable.name == setting.constant and s.variable.initial is None
+            and any(setting.element == f"{h}::{'::'.join(s.instance)}" for h in heads)]
 
 
 def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
@@ -315,20 +332,21 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
     def names(prefixes: list[str], v: ast.Variable) -> tuple[str, ...]:
         return tuple(f"const_{p}_{v.name}" for p in dict.fromkeys(prefixes))
 
-    def behaviour(b: ast.Behaviour, prefixes: list[str]) -> None:
+    def behaviour(b: ast.Behaviour, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
         for v in constants_of(project, b):
-            out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef)))
+            out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef),
+                             instance))
 
-    def controller(c: ast.Controller, prefixes: list[str]) -> None:
+    def controller(c: ast.Controller, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
         ps = [*prefixes, inst.mangle(c.qname)]
         own = [v for v in c.variables if v.constant]
         own += _interface_constants(project, (*c.required_interfaces, *c.provided_interfaces, *c.used_interfaces))
         for v in _unique(own):
             out.append(_Slot(v, names(ps, v)))
         for mi in c.machines:
-            behaviour(mi.machine, [f"{p}_{mi.name}" for p in dict.fromkeys(ps)])
+            behaviour(mi.machine, [f"{p}_{mi.name}" for p in dict.fromkeys(ps)], (*instance, mi.name))
         for oi in c.operations:
-            behaviour(oi.operation, [f"{p}_{oi.name}" for p in dict.fromkeys(ps)])
+            behaviour(oi.operation, [f"{p}_{oi.name}" for p in dict.fromkeys(ps)], (*instance, oi.name))
 
     if isinstance(element, ast.Behaviour):
         behaviour(element, [])
@@ -341,7 +359,7 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
             for v in constants_of(project, p):
                 out.append(_Slot(v, names([f"{m}_{element.platform_name or p.name}", inst.mangle(p.qname)], v)))
         for ci in element.controllers:
-            controller(ci.controller, [f"{m}_{ci.name}"])
+            controller(ci.controller, [f"{m}_{ci.name}"], (ci.name,))
     return out
 
 
@@ -541,8 +559,6 @@ class Configuration:
             if r is not None:
                 self._ranges[name] = _RangeEntry(r, ROBOTOOL_DEFAULT)
         self._instantiated: dict[str, tuple[ast.Expr, Source]] = {}
-        self._conflicted: set[str] = set()
-        self._positions: dict[str, ast.Pos] = {}
         self.project = self._read_instantiation(project) if instantiation else project
         self._flags: dict[str, _ConstEntry] = {}
         for name, r in _range_items(ranges):
@@ -609,8 +625,8 @@ class Configuration:
                 if v.name == name:
                     entries[key] = _ConstEntry(value, Source("D__ argument", _at(value.pos)))
         for setting in a.settings if a is not None else ():
-            if setting.kind != "constant":
-                continue
+            if setting.kind != "constant" or _instances_named(setting, element, slots):
+                continue  # one instance's value: `_per_instance`
             for key in self._with_constant(setting, declared):
                 entries[key] = _ConstEntry(setting.value, Source("with constant", _at(setting.pos)))
         self._bind_required(slots, declared, entries)
@@ -619,8 +635,41 @@ class Configuration:
                      if e.value is not None and (declared[k].initial is None or e.source.what != "model")}
         described = {k: describe_value(e.value) if e.value is not None else self._parameter(declared[k])
                      for k, e in entries.items()}
-        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(),
-                     {k: str(e.source) for k, e in entries.items()})
+        sources = {k: str(e.source) for k, e in entries.items()}
+        per_instance = self._per_instance(a, element, slots, entries)
+        for key in {k for _, k in per_instance}:  # every instance has its own: the declaration's is unused
+            if all((s.instance, key) in per_instance for s in slots if declaration_key(s.variable) == key):
+                del described[key], sources[key]
+        for (path, key), entry in per_instance.items():
+            assert entry.value is not None
+            constants[instance_key(path, declared[key])] = entry.value
+            shown = f"{'::'.join(path)}::{declared[key].name}"
+            described[shown] = describe_value(entry.value)
+            sources[shown] = str(entry.source)
+        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources)
+
+    def _per_instance(self, a: ast.Assertion | None, element: Checked, slots: list[_Slot],
+                      entries: dict[str, _ConstEntry]) -> dict[tuple[tuple[str, ...], str], _ConstEntry]:
+        """Values that one instance of a machine gets and another of the same declaration need not:
+        from the instantiation under the instance's own name (`const_test12_ctrl0_stm_ref0_CC`), and
+        from `with constant CC of ctrl0::stm_ref0`, which names the instance.  A value the command line
+        or a `D__` argument gives the declaration applies to every instance and wins."""
+        out: dict[tuple[tuple[str, ...], str], _ConstEntry] = {}
+        for s in slots:
+            key = declaration_key(s.variable)
+            if not s.instance or s.variable.initial is not None or _RANK.get(entries[key].source.what, 0) > 2:
+                continue
+            for n in s.names[:-1]:  # the last is the definition's name, the same for every instance
+                found = self._instantiated.get(n)
+                if found is not None and ast.assignable(s.variable.type, found[0].type):
+                    out[(s.instance, key)] = _ConstEntry(*found)
+                    break
+        for setting in a.settings if a is not None else ():
+            if setting.kind == "constant":
+                for s in _instances_named(setting, element, slots):
+                    out[(s.instance, declaration_key(s.variable))] = _ConstEntry(
+                        setting.value, Source("with constant", _at(setting.pos)))
+        return out
 
     @staticmethod
     def _bind_required(slots: list[_Slot], declared: dict[str, ast.Variable], entries: dict[str, _ConstEntry]) -> None:
@@ -641,7 +690,8 @@ class Configuration:
     def _from_instantiation(self, slots: list[_Slot]) -> dict[str, tuple[ast.Expr, Source]]:
         """The instantiation's value for each constant without one in the model: the first of
         RoboTool's names for it that the instantiation defines (an instance's before the
-        definition's; the first instance's when two instances share the declaration)."""
+        definition's; the first instance's when two instances share the declaration, each of which
+        may have its own value too: `_per_instance`)."""
         out: dict[str, tuple[ast.Expr, Source]] = {}
         for s in slots:
             key = declaration_key(s.variable)
@@ -653,24 +703,6 @@ class Configuration:
                     out[key] = found
                     break
         return out
-
-    def _conflicts(self, slots: list[_Slot]) -> None:
-        """Warn where two instances of one declaration get different values: tockbmc gives a
-        constant one value per declaration."""
-        found: dict[str, dict[str, str]] = defaultdict(dict)  # key -> value -> RoboTool name
-        for s in slots:
-            for n in s.names:
-                got = self._instantiated.get(n)
-                if got is not None:
-                    found[declaration_key(s.variable)].setdefault(describe_value(got[0]), n)
-                    break
-        for key, values in found.items():
-            if len(values) > 1 and key not in self._conflicted:
-                self._conflicted.add(key)
-                names = [f"{n} = {v}" for v, n in values.items()]
-                self._warn(self._positions[next(iter(values.values()))],
-                           f"instances of {key} get different values ({', '.join(names)}); tockbmc gives a "
-                           "constant one value, the first instance's")
 
     def _parameter(self, v: ast.Variable) -> str:
         r = self.ranges()
@@ -763,8 +795,6 @@ class Configuration:
                                         "uninterpreted (docs/semantics.md §6.4)")
                 else:
                     self._warn(exc.pos, f"unsupported: {exc.what}; '{name}' is not used")
-        for e in elements:
-            self._conflicts(robotool_slots(project, e))
         return inst.with_functions(project, defined)
 
     def _warn(self, pos: ast.Pos, message: str) -> None:
@@ -802,7 +832,6 @@ class Configuration:
         for t in dict.fromkeys(v.type for v in variables):
             values.append(inst.value(d, d.body, t))
         self._instantiated[name] = (values[0], Source("instantiation", _at(d.pos)))
-        self._positions[name] = d.pos
 
 
 def _range_items(ranges: Ranges | Mapping[str, Range | None] | None) -> list[tuple[str, Range | None]]:
