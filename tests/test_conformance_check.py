@@ -32,15 +32,6 @@ DIFFERENCES = {
     ("test8", "A1"): (
         "violated", "untimed, for the two reasons of A2: x starts at any value of core_nat (M outputs e1.1 first), "
                     "and with x at 0 Spec allows e1.out.0, e2.out.0, ✓, which needs RoboTool's late propagation"),
-    ("clocks5", "A0"): (
-        "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2, so its trace "
-                    "<opACall, tock, tock, term.out> is not one of Spec's: "
-                    "t2's sinceEntry(s0) >= 2 names the outer s0 (the transition's scope), which has no entry "
-                   "action and is entered at time 0, so it holds once the inner s0's entry (opA(); wait(2)) has "
-                   "run. RoboTool resets a state's clock on S::entered; its 4 tocks mean either that a composite "
-                   "counts as entered once its inner state's entry has run, or that state clocks are named by "
-                   "the state's simple name (CLID_s0), so the inner s0's entered resets it too: the evidence we "
-                   "have settles neither (DESIGN.md, Conformance)"),
 }
 
 # (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.

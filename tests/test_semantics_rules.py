@@ -664,6 +664,32 @@ stm M {
     expect(rs["U"], "holds", ["tock", "tock", "tock", "M::e.in"])
 
 
+def test_rule10_since_entry_of_a_composite_counts_once_its_initial_state_is_entered(tmp_path) -> None:
+    """§4.5 (docs/semantics.md): the composite s is entered once its initial substate in has run
+    its entry (`wait(2)`), at time 2; so `sinceEntry(s) >= 2` holds at time 4, not 2, as RoboTool's
+    `clocks5` expects.  The explicit engine finds the same run."""
+    rct = """
+stm M {
+  event e
+  initial i
+  state s {
+    initial j
+    state in { entry wait(2) }
+    transition u0 { from j to in }
+  }
+  state u {}
+  transition t0 { from i to s }
+  transition t1 { from s to u condition sinceEntry(s) >= 2 action e }
+}
+"""
+    rs = run(tmp_path, rct, "assertion U: u is reachable in M.\n")
+    expect(rs["U"], "holds", ["tock", "tock", "tock", "tock", "M::e.out"])
+    from tockbmc.explicit.engine import check_explicit
+    project = tockbmc.load(tmp_path)
+    [r] = check_explicit(project, None, 8, Ranges(), {}, None)
+    expect(r, "holds", ["tock", "tock", "tock", "tock", "M::e.out"])
+
+
 # ---------------------------------------------------------------------------- rule 11
 
 

@@ -416,20 +416,32 @@ class _Builder:
     def _follow(self, cur: int, t: ast.Transition, active: tuple[str, ...]) -> None:
         """After `t`'s action: enter the states around its target, then the target, and on through
         the initial transitions of composite states (a loop: states may nest hundreds deep)."""
-        step: tuple[int, ast.Transition, tuple[str, ...]] | None = (cur, t, active)
+        # A composite state is entered once the states its initial transitions lead to are
+        # (docs/semantics.md §4.2): its `sinceEntry` counts from there, so its reset waits.
+        step: tuple[int, ast.Transition, tuple[str, ...], tuple[str, ...]] | None = (cur, t, active, ())
         while step is not None:
-            cur, t, active = step
+            cur, t, active, pending = step
             target = self._nodes[t.target]
             outer = self.ancestors(target.path)
             # `active` and `outer` are both chains from the top: their common part is a prefix.
             shared = next((k + 1 for k in range(min(len(active), len(outer)) - 1, -1, -1)
                            if active[k] == outer[k]), 0)
             for s in outer[shared:]:
-                cur = self._entry(cur, s, active)
+                cur = self._entry(cur, s, active, defer=True)
                 active = (*active, s)
-            step = self._enter(cur, target, active, t.pos)
+                pending = (*pending, s)
+            step = self._enter(cur, target, active, t.pos, pending)
 
-    def _entry(self, cur: int, state: str, active: tuple[str, ...]) -> int:
+    def _entered(self, cur: int, states: tuple[str, ...], active: tuple[str, ...], pos: ast.Pos | None) -> int:
+        """The states just entered start counting `sinceEntry`, as RoboTool's `S::entered` does."""
+        clocks = tuple(entry_clock(s) for s in states if s in self.since_entry)
+        if not clocks:
+            return cur
+        nxt = self._location(f"{states[-1]}: entered", active)
+        self.a.edge(cur, nxt, "tau", resets=clocks, pos=pos)
+        return nxt
+
+    def _entry(self, cur: int, state: str, active: tuple[str, ...], defer: bool = False) -> int:
         node = self._nodes[state]
         inside = (*active, state)
         if node.entry is not None or state in self.since_entry:
@@ -441,29 +453,31 @@ class _Builder:
             cur = nxt
         if node.entry is not None:
             cur = self._stmt(cur, node.entry, inside, f"{state}: entry")
-        if state in self.since_entry:  # counted from the end of the entry action, as RoboTool's `S::entered`
-            nxt = self._location(f"{state}: entered", inside)
-            self.a.edge(cur, nxt, "tau", resets=(entry_clock(state),), pos=node.pos)
-            cur = nxt
+        if not defer:  # counted from the end of the entry action, as RoboTool's `S::entered`
+            cur = self._entered(cur, (state,), inside, node.pos)
         return cur
 
-    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...],
-               pos: ast.Pos | None = None) -> tuple[int, ast.Transition, tuple[str, ...]] | None:
+    def _enter(self, cur: int, target: ast.Node, active: tuple[str, ...], pos: ast.Pos | None = None,
+               pending: tuple[str, ...] = ()) -> tuple[int, ast.Transition, tuple[str, ...], tuple[str, ...]] | None:
         """Enter `target` at the end of a transition (`pos`); for a composite state, returns its
-        initial transition for `_follow` to take."""
-        if target.kind == "junction":
-            self._goto(cur, self.junction[target.path], pos)
-        elif target.kind == "final" and target.parent is None:
-            self._goto(cur, self.final_top[target.path], pos)
+        initial transition for `_follow` to take.  `pending`: the states being entered around it,
+        whose `sinceEntry` starts once `target` (and its initial states) are entered."""
+        if target.kind == "junction" or (target.kind == "final" and target.parent is None):
+            # a junction's location is shared by every way in: what is being entered counts from here
+            cur = self._entered(cur, pending, active, pos)
+            self._goto(cur, self.junction[target.path] if target.kind == "junction" else self.final_top[target.path],
+                       pos)
         elif target.path in self.stable:
-            cur = self._entry(cur, target.path, active)
+            cur = self._entry(cur, target.path, active, defer=True)
+            pending = (*pending, target.path)
             if target.composite:
                 init = self._initial(target.path)
                 inside = (*active, target.path)
                 if init.action is not None:
                     cur = self._stmt(cur, init.action, inside, f"{init.name}: action")
-                return cur, init, inside
-            elif target.path in self.parent_during:
+                return cur, init, inside, pending
+            cur = self._entered(cur, pending, (*active, target.path), target.pos)
+            if target.path in self.parent_during:
                 self._goto(cur, self._during(target, (*active, target.path), self.parent_during[target.path]))
             elif target.during is not None:
                 self._goto(cur, self._during(target, (*active, target.path)))

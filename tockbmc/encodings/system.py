@@ -380,8 +380,8 @@ class TransitionSystem:
                 add("event", "env-write", (), link)
             elif link.asynchronous and isinstance(link.receiver, External):
                 add("event", "env-read", (), link)
-        for parts in self._terminations():
-            add("internal" if self.network.hidden_termination else "event", "terminate", parts)
+        for ends in self._terminations():
+            add("internal" if self.network.hidden_termination else "event", "terminate", ends)
         add("tock", "tock")
         return moves
 

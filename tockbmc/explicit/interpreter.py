@@ -374,7 +374,8 @@ class Frame(NamedTuple):
     `node` is the innermost active node (None between leaving and entering at top level);
     `cont` the instructions still to run; `intr` whether `cont` is a `during` (transitions may
     abandon it); `dls` the statement-deadline counters; `pend` the states whose `during` starts
-    once a leaf is stable; `via` the transition being taken.
+    once a leaf is stable; `via` the transition being taken; `entering` the composite states being
+    entered, whose `sinceEntry` starts once the states their initial transitions lead to are entered.
     """
 
     beh: int
@@ -384,6 +385,7 @@ class Frame(NamedTuple):
     dls: tuple
     pend: tuple
     via: str | None
+    entering: tuple = ()
 
 
 class Config:
@@ -1619,17 +1621,21 @@ class Interpreter:
                 path = head[1]
                 node = beh.nodes[path]
                 pre = (("s", self._sid_of(node.entry)),) if node.kind == "state" and node.entry is not None else ()
-                since = (("r", path),) if ("since", ctx.i, f.beh, path) in self._slot_of else ()
-                frames[-1] = f._replace(node=path, cont=(*pre, *since, *rest), via=None)
-            elif tag == "r":  # the entry action has run: sinceEntry counts from here (RoboTool's `S::entered`)
-                ctx.set(self._slot_of[("since", ctx.i, f.beh, head[1])], 0)
-                frames[-1] = f._replace(cont=rest)
+                frames[-1] = f._replace(node=path, cont=(*pre, *rest), via=None)
             elif tag == "a":
-                target, durs = head[1], head[2]
+                target, durs, entering = head[1], head[2], head[3]
                 node = beh.nodes[target]
                 if node.kind == "state" and node.children:
-                    frames[-1] = f._replace(node=beh.initial[target], cont=rest, pend=durs, via=None)
-                elif node.kind == "state" or (node.kind == "final" and node.parent is not None):
+                    frames[-1] = f._replace(node=beh.initial[target], cont=rest, pend=durs, via=None,
+                                            entering=entering)
+                    continue
+                # Every state entered on the way here now is: sinceEntry counts from here (RoboTool's `S::entered`).
+                for p in entering:
+                    slot = self._slot_of.get(("since", ctx.i, f.beh, p))
+                    if slot is not None:
+                        ctx.set(slot, 0)
+                f = frames[-1] = f._replace(entering=())
+                if node.kind == "state" or (node.kind == "final" and node.parent is not None):
                     active = set(beh.ancestors(target))
                     cont = tuple(("s", self._sid_of(d)) for p in durs
                                  if p in active and (d := beh.nodes[p].during) is not None)
@@ -1669,7 +1675,7 @@ class Interpreter:
         cont = (*(("x", p) for p in exits),
                 *((("s", self._sid_of(t.action)),) if t.action is not None else ()),
                 *(("e", p) for p in enters),
-                ("a", t.target, durs))
+                ("a", t.target, durs, (*f.entering, *enters)))
         nf = Frame(f.beh, f.node, cont, False, (), (), t.name)
         return self._result(ctx, [*frames[:k], nf])
 
