@@ -303,8 +303,9 @@ class _Slot:
     variable: ast.Variable
     names: tuple[str, ...]
     in_operation: bool = False  # a constant a defined operation declares or requires
-    # The instance names from the checked element down to the machine or operation that holds the
-    # constant (`("stm_ref0",)`, `("ctrl", "stm_ref0")`); empty for the element's own constants.
+    # The instance names from the checked element down to the machine that holds the constant
+    # (`("stm_ref0",)`, `("ctrl", "stm_ref0")`); empty for the element's own constants and for a
+    # defined operation's, which is inlined where it is called and has one value per declaration.
     instance: tuple[str, ...] = ()
 
 
@@ -345,8 +346,8 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
             out.append(_Slot(v, names(ps, v)))
         for mi in c.machines:
             behaviour(mi.machine, [f"{p}_{mi.name}" for p in dict.fromkeys(ps)], (*instance, mi.name))
-        for oi in c.operations:
-            behaviour(oi.operation, [f"{p}_{oi.name}" for p in dict.fromkeys(ps)], (*instance, oi.name))
+        for oi in c.operations:  # inlined where called: one value per declaration, whichever `opref` names it
+            behaviour(oi.operation, [f"{p}_{oi.name}" for p in dict.fromkeys(ps)])
 
     if isinstance(element, ast.Behaviour):
         behaviour(element, [])
