@@ -343,7 +343,11 @@ class TransitionSystem:
                 if e.kind in ("tau", "wait"):
                     add("internal", "local", ((c, e),))
                 elif e.kind == "terminate":
-                    continue  # one joint move, below
+                    # the element's joint moves, where the first machine's termination is (the order
+                    # of moves shapes the encoding, and Spacer is sensitive to it)
+                    if not any(m.role == "terminate" for m in moves):
+                        for ends in self._terminations():
+                            add("internal" if self.network.hidden_termination else "event", "terminate", ends)
                 elif e.kind == "call":
                     add("event", "local", ((c, e),))
                 else:
@@ -380,8 +384,6 @@ class TransitionSystem:
                 add("event", "env-write", (), link)
             elif link.asynchronous and isinstance(link.receiver, External):
                 add("event", "env-read", (), link)
-        for ends in self._terminations():
-            add("internal" if self.network.hidden_termination else "event", "terminate", ends)
         add("tock", "tock")
         return moves
 
