@@ -92,9 +92,13 @@ def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
 class TraceFollower:
     """How many events of a fixed trace the element has performed (`follow`); other visible events are barred."""
 
-    def __init__(self, system: TransitionSystem, trace: SpecTrace):
+    def __init__(self, system: TransitionSystem, trace: SpecTrace,
+                 guards: dict[int, Callable[[TransitionSystem], z3.BoolRef]] | None = None):
         self.trace = trace
         self.system = system
+        # What the configuration must satisfy to take the trace's event at a position (the
+        # tick-tock model: the refusal before a tock), read before the step.
+        self.guards = guards or {}
 
     def slots(self) -> dict[str, z3.SortRef]:
         return {names.FOLLOW: z3.IntSort()}
@@ -114,7 +118,9 @@ class TraceFollower:
             label, _arity = system.label(m)
             values = [v for v, _t in system.label_values(m)]
             try:
-                matches = [z3.And(pos == j, _matches(label, values, e)) for j, e in enumerate(self.trace.events)]
+                matches = [z3.And(pos == j, _matches(label, values, e), *([self.guards[j](system)] if j in self.guards
+                                                                          else []))
+                           for j, e in enumerate(self.trace.events)]
             except ValueError as exc:
                 raise Unenumerable(str(exc)) from None
             cs.append(z3.Implies(act == m.index, z3.Or(matches) if matches else z3.BoolVal(False)))

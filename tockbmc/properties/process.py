@@ -162,8 +162,10 @@ def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]
 class Context:
     """An `Implementation`'s operators as a `TransitionSystem` sees them, plus an optional monitor."""
 
-    def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = ""):
+    def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = "",
+                 monitor: type[MonitorExtension] | None = None):
         self.impl, self.sem, self.spec, self.spec_name = impl, sem, spec, spec_name
+        self.monitor = monitor or MonitorExtension  # the tick-tock model filters the monitor at each tock
 
     def status(self, label: tuple, arity: int) -> str:
         """Inside out: the first operator that hides or blocks the channel decides."""
@@ -205,7 +207,7 @@ class Context:
     def attach(self, system: TransitionSystem) -> MonitorExtension | None:
         if self.spec is None:
             return None
-        return MonitorExtension(system, self)
+        return self.monitor(system, self)
 
 
 def channels_of(system: TransitionSystem) -> tuple[list[Channel], dict[int, int]]:
@@ -260,12 +262,16 @@ class MonitorExtension:
             for e in context.impl.head:
                 start = self.monitor.after(start, e)
             self.start = start
-            self.table = self.monitor.table()
+            self.table = self._explore()
             self.count = len(self.monitor.states)
             self.bad_end = self._bad_end()
         except TooLarge:
             raise CspError(context.impl.pos, f"the specification {context.spec_name} has too many states "
                                              "to monitor") from None
+
+    def _explore(self) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
+        """The monitor's moves from every state it can reach (a subclass may reach more)."""
+        return self.monitor.table()
 
     def slots(self) -> dict[str, z3.SortRef]:
         return {names.MONITOR: z3.IntSort()}
@@ -283,9 +289,14 @@ class MonitorExtension:
             values = [v for v, _t in system.label_values(m)]
             by_state: z3.ArithRef = z3.IntVal(Monitor.DEAD)
             for s in reversed(range(self.count)):
-                by_state = z3.If(mon == s, self._delta(s, c, values), by_state)
+                by_state = z3.If(mon == s, self._next(system, s, c, values), by_state)
             new = z3.If(system.act == m.index, by_state, new)
         return system.nxt[names.MONITOR] == new
+
+    def _next(self, system: TransitionSystem, s: int, c: int, values: list) -> z3.ArithRef:
+        """The next monitor state after channel c's event with `values` from state s, in the
+        configuration before the step (which only the tick-tock model's tock reads)."""
+        return self._delta(s, c, values)
 
     def _delta(self, s: int, c: int, values: list) -> z3.ArithRef:
         """The next monitor state after channel c's event with `values`; the atoms' conditions are

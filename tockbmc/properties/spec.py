@@ -862,11 +862,22 @@ class Monitor:
             procs = frozenset(p for p in procs if self.sem.stable(p))
         return self._state(self._closure(q for p in procs for q in self.sem.after(p, e)))
 
-    def table(self) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
-        """δ for every reachable state and channel: [(values, next state)], explored to a fixpoint."""
+    def after_tock(self, state: int, terms: Iterable[Proc]) -> int:
+        """The state after `tock` taken by `terms` only (stable terms of `state`): in the tick-tock
+        model, those whose refusal matched the one observed before the tock."""
+        if state == self.DEAD:
+            return self.DEAD
+        return self._state(self._closure(q for p in terms for q in self.sem.after(p, TOCK)))
+
+    def table(self, more: Callable[[int], None] | None = None) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
+        """δ for every reachable state and channel: [(values, next state)], explored to a fixpoint;
+        `more(i)` is called for each state, so that a caller can add the states its own moves reach
+        (the tick-tock model's filtered tocks)."""
         out: dict[tuple[int, int], list[tuple[tuple, int]]] = {}
         i = 0
         while i < len(self.states):
+            if more is not None:
+                more(i)
             for c, ch in enumerate(self.channels):
                 self.named[(i, c)] = self.fields(i, ch)
                 out[(i, c)] = [(vs, self.after(i, (*ch.prefix, *vs))) for vs in self.values(i, ch)]
