@@ -50,6 +50,10 @@ MAX_GROUPS = 6  # distinct acceptances among the terms that can let time pass in
 OBSERVATIONS_CAP = 256
 
 
+class TooManyObservations(Unsupported):
+    """More observations of the specification than are listed (the length is then cut)."""
+
+
 @dataclass(frozen=True)
 class TockGroup:
     """Stable terms of a monitor state that can do `tock` and accept the same classes of events
@@ -189,7 +193,7 @@ def spec_observations(mon: Monitor, sem: Semantics, channels: list[Channel], len
         ticks = mon.can_tick(o.state)
         out.append(Observation(o.events, o.tocks, o.state, ticks, ticks or not nexts))
         if len(out) > OBSERVATIONS_CAP:
-            raise Unsupported(None, f"the specification has more than {OBSERVATIONS_CAP} tick-tock observations "
+            raise TooManyObservations(None, f"the specification has more than {OBSERVATIONS_CAP} tick-tock observations "
                                     f"of up to {length} events, too many to list")
         todo += nexts
     return sorted(out, key=lambda o: (len(o.events), repr(o.events), repr(o.tocks)))
@@ -205,7 +209,7 @@ def observation_checks(mon: Monitor, sem: Semantics, channels: list[Channel], le
     while length >= 1:
         try:
             observations = spec_observations(mon, sem, channels, length)
-        except Unsupported:
+        except TooManyObservations:
             length -= 1
             continue
         checks: list[tuple[Observation, SpecRefusal | None]] = [(o, None) for o in observations if o.maximal]
@@ -213,8 +217,8 @@ def observation_checks(mon: Monitor, sem: Semantics, channels: list[Channel], le
         if len(checks) <= cap:  # the fewest events first, so that a failure is shown as short as it is found
             return observations, sorted(checks, key=lambda c: (len(c[0].events), c[1] is not None)), length
         length -= 1
-    raise Unsupported(None, f"the specification has more than {cap} tick-tock observations and refusals of one "
-                            "event, too many to list")
+    raise TooManyObservations(None, f"the specification has more than {cap} tick-tock observations and refusals "
+                                    "of one event, too many to list")
 
 
 def final_refusals(mon: Monitor, sem: Semantics, channels: list[Channel], o: Observation) -> list[SpecRefusal]:
