@@ -46,7 +46,7 @@ from tockbmc.properties.spec import TOCK, Channel, Monitor, Proc, Semantics
 
 TICK_TOCK = "tick-tock"
 MODELS = "the tick-tock model"
-MAX_GROUPS = 6  # distinct acceptances among the terms that can let time pass in one monitor state
+MAX_GROUPS = 8  # distinct acceptances among the terms that can let time pass in one monitor state
 OBSERVATIONS_CAP = 256
 
 
