@@ -28,7 +28,8 @@ BOUND = 6
 
 EXPECTED = {"F1": "holds", "T1": "violated", "T1n": "holds", "F2": "holds", "T2": "holds", "F3": "holds",
             "T3": "holds", "F4": "holds", "T4": "violated", "T4n": "holds", "E1": "violated", "T5": "holds",
-            "T6": "holds", "T7": "violated", "T8": "holds", "T9": "violated"}
+            "T6": "holds", "T7": "violated", "T8": "holds", "T9": "violated",
+            "M1": "holds", "M2": "violated", "N1": "holds", "N2": "holds"}
 
 
 @cache
@@ -100,3 +101,13 @@ def test_untimed_tick_tock_is_unsupported(tmp_path: Path) -> None:
     (tmp_path / "tt.assertions").write_text(text)
     [r] = check(tockbmc.load(tmp_path), ["U"], bound=BOUND)
     assert r.verdict == "unsupported" and "untimed" in (r.reason or "")
+
+
+def test_two_model_elements_one_renamed_as_the_specification() -> None:
+    """M2: Choose, renamed to Offer's channels, stands for the specification on the left; its
+    observation <[everything but a] tock, a> is not Offer's (N2: the failures model does not see it)."""
+    for engine in ("bmc", "explicit"):
+        r = results(engine)["M2"]
+        assert [s.event for s in r.trace] == ["tock", "Offer::a.in"], engine
+        assert r.extra["tock_refusals"] == [{"step": 1, "offered": ["Offer::a.in", "tock"]}]
+        assert "ChooseAsOffer has this observation" in (r.reason or "")

@@ -113,6 +113,9 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         try:
             q = query(project, self.a)
+            if q.spec_element is not None:  # two model elements: the other one's state graph, from the interpreter
+                from tockbmc.explicit.engine import with_element_spec
+                q = with_element_spec(q, self.a, self.config)
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)

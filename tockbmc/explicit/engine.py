@@ -23,7 +23,8 @@ from dataclasses import replace
 from fractions import Fraction
 from typing import NamedTuple, cast
 
-from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, fill, unknowns
+from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, Unbounded, fill, unknowns
+from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
@@ -44,7 +45,7 @@ from tockbmc.properties.failures import (
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
-from tockbmc.properties.queries import query
+from tockbmc.properties.queries import given_spec, query
 from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
 from tockbmc.properties.ticktock import (
     TICK_TOCK,
@@ -474,6 +475,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
 
     try:
         q = query(project, a)
+        if q.spec_element is not None:
+            q = with_element_spec(q, a, config)
         setup = config.setup(a, q.element, q.settings)
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         consts = python_settings(setup.constants)
@@ -503,6 +506,27 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
     except MemoryError:
         return result(Verdict.UNKNOWN, f"stopped at the state limit ({max_states} configurations); the search is not "
                                  "complete")
+
+
+def with_element_spec(q: Query, a: ast.Assertion, config: Configuration) -> Query:
+    """Refinement between two model elements: the query with the state graph of the element on the
+    specification's side (`explicit.lts`) as its specification, listed within that element's
+    ranges and constants as the assertion sets them."""
+    assert q.spec_element is not None and q.context is not None
+    spec = q.spec_element
+    setup = config.setup(a, spec.element, spec.settings)
+    try:
+        interp = Interpreter(spec.element, ranges_dict(setup.ranges), python_settings(setup.constants),
+                             dict(spec.defined), timed=q.timed)
+        literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
+        graph = element_lts(interp, spec.impl.renames, literals, q.spec_name)
+    except Unbounded as exc:
+        raise Unsupported(None, f"{q.spec_name} stands for a specification, so its state graph is listed, which needs "
+                                f"a finite range for every value from outside: {exc}") from None
+    except NotInterpretable as exc:
+        raise Unsupported(None, f"{q.spec_name} stands for a specification, and the interpreter cannot list its "
+                                f"states: {exc.what} ({exc.pos})") from None
+    return given_spec(q, graph)
 
 
 def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:

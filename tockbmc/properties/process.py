@@ -55,6 +55,9 @@ class Implementation:
     tail: Proc = field(default_factory=Skip)  # what runs after the element terminates, in context
     head: tuple[tuple, ...] = ()  # events before the element starts
     continues: bool = False  # something other than ✓ follows the element's termination
+    # `[[ a <- b ]]` around the element: its channels' new names (outermost last).  Only a model
+    # element that stands for a specification (refinement between two elements) may be renamed.
+    renames: tuple[tuple[tuple, tuple], ...] = ()
 
 
 def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = frozenset()) -> Implementation | Proc:
@@ -128,6 +131,15 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
             if any(not _concrete(x) for x in event):
                 raise ev.error(c[0], "a prefix before a model process must name one event")
             inner.head = (event, *inner.head)
+        return inner
+    if k == "rename":
+        inner = implementation(ev, c[0], env, seen)
+        if not isinstance(inner, Implementation):
+            return ev.proc(t, env)
+        if inner.ops or inner.head or inner.continues:
+            raise ev.error(t, "renaming a model process inside other operators is not supported")
+        pairs = tuple((ev.event(r.children[0], env), ev.event(r.children[-1], env)) for r in c[1:])
+        inner.renames = (*inner.renames, *pairs)
         return inner
     if k in ("external", "internal", "interrupt", "timeout", "exception", "interleave", "replicated"):
         for x in c:

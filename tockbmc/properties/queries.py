@@ -26,9 +26,9 @@ from tockbmc.properties.deadlock import (
     watch_loops,
 )
 from tockbmc.properties.failures import FAILURES_MODELS, Refusals
-from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
+from tockbmc.properties.goals import ElementSpec, Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
-from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
+from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics, Stop
 from tockbmc.properties.ticktock import TICK_TOCK, TickTockMonitor
 
 
@@ -158,21 +158,38 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     """
     left = _side(ev, project, a.subject, a.subject_is_process, a.pos)
     right = _side(ev, project, a.other or "", a.other_is_process, a.pos)
-    if isinstance(left, Implementation) == isinstance(right, Implementation):
-        what = "two model elements" if isinstance(left, Implementation) else "two CSP specifications"
-        raise Unsupported(None, f"refinement between {what} is not supported; one side must be a model element "
-                           "(possibly in a CSP context) and the other a CSP specification")
-    impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)
+    spec_element = None
+    if isinstance(left, Implementation) and isinstance(right, Implementation):
+        # Two model elements: the renamed one (else the right one) stands for the specification,
+        # as its state graph (`explicit.lts`); the other is checked as a model element.
+        impl, other = (right, left) if left.renames and not right.renames else (left, right)
+        if impl.renames:
+            raise Unsupported(None, "refinement between two renamed model elements is not supported")
+        if other.ops or other.head or other.continues:
+            raise Unsupported(None, "a model element on the specification's side is supported renamed only, not "
+                                    "under other CSP operators")
+        found, _name, found_settings = _resolve(project, other)
+        spec_element = ElementSpec(other, found, found_settings, _defined(project, other))
+        spec: Proc = Stop(True)  # replaced by the element's state graph (`given_spec`)
+        left_spec = other is left
+    elif isinstance(left, Implementation) == isinstance(right, Implementation):
+        raise Unsupported(None, "refinement between two CSP specifications is not supported; one side must be a "
+                                "model element (possibly in a CSP context)")
+    else:
+        impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)  # type: ignore[assignment]
+        left_spec = impl is right
     assert isinstance(impl, Implementation) and isinstance(spec, Proc)
-    spec_name = a.other if impl is left else a.subject
+    if impl.renames:
+        raise Unsupported(None, "renaming the model element checked is not supported; rename the other side")
+    spec_name = a.subject if left_spec else a.other
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
     tick_tock = a.semantic_model == TICK_TOCK
     failures = a.semantic_model in FAILURES_MODELS or tick_tock
-    if impl is left or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
+    if not left_spec or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
         spec_text = spec_name or ""
         goals = _failures_goals(a, name, spec_text) if failures else (_refinement_goal(a, name, spec_text),)
-    inclusion = a.kind == "equals" or impl is right
+    inclusion = a.kind == "equals" or left_spec
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
                            "comes before the model")
@@ -182,7 +199,17 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     return Query(assertion=a, element=element, goals=goals,
                  context=Context(impl, sem, spec if goals else None, spec_name or "",
                                  TickTockMonitor if tick_tock else None), defined=_defined(project, impl),
-                 settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "")
+                 settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "",
+                 spec_element=spec_element)
+
+
+def given_spec(q: Query, spec: Proc) -> Query:
+    """The query with `spec` (a model element's state graph) as its specification, on whichever
+    side the assertion put it (refinement between two model elements)."""
+    assert q.context is not None
+    context = Context(q.context.impl, q.context.sem, spec if q.context.spec is not None else None,
+                      q.context.spec_name, q.context.monitor)
+    return replace(q, context=context, inclusion=spec if q.inclusion is not None else None)
 
 
 def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str,

@@ -238,6 +238,31 @@ class EndBy(Proc):
     n: int
 
 
+class LtsGraph:
+    """A model element's state graph as a specification (`Lts` terms are its nodes): per node, its
+    moves as (event, next node), the event None for an internal step; and the nodes that have
+    terminated (they can do ✓).  Built by the explicit interpreter (`explicit.lts`), so that a model
+    element can stand where a specification does (refinement between two elements).  Compared by
+    identity: each is built once per check."""
+
+    def __init__(self, moves: tuple[tuple[tuple[tuple | None, int], ...], ...], ticks: frozenset[int]):
+        self.moves, self.ticks = moves, ticks
+
+
+@dataclass(frozen=True, eq=False)
+class Lts(Proc):
+    """A node of an `LtsGraph`."""
+
+    graph: LtsGraph
+    node: int
+
+    def __hash__(self) -> int:
+        return hash((id(self.graph), self.node))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Lts) and self.graph is other.graph and self.node == other.node
+
+
 # ---------------------------------------------------------------- evaluation
 
 
@@ -579,6 +604,8 @@ class Semantics:
         p = self.force(p)
         if isinstance(p, Skip):
             return True
+        if isinstance(p, Lts):
+            return p.node in p.graph.ticks
         if isinstance(p, Wait):
             return p.n <= 0
         if isinstance(p, EndBy):
@@ -594,6 +621,8 @@ class Semantics:
 
     def taus(self, p: Proc) -> list[Proc]:  # noqa: C901 - one case per operator
         p = self.force(p)
+        if isinstance(p, Lts):
+            return [Lts(p.graph, n) for e, n in p.graph.moves[p.node] if e is None]
         if isinstance(p, Deadline) and p.event is False:
             return []
         if isinstance(p, EndBy):
@@ -677,6 +706,8 @@ class Semantics:
             return [p] if tock and p.timed else []
         if isinstance(p, (Skip, Omega)):
             return []
+        if isinstance(p, Lts):  # its events name every value, so a class of unnamed values (OTHER) matches none
+            return [Lts(p.graph, n) for x, n in p.graph.moves[p.node] if x is not None and x == e]
         if isinstance(p, Run):
             return [p] if p.events.contains(e) or (tock and p.timed) else []
         if isinstance(p, Wait):
@@ -739,6 +770,8 @@ class Semantics:
         p = self.force(p)
         if isinstance(p, Prefix):
             return {tuple(ANY if isinstance(x, Input) else x for x in p.pattern)}
+        if isinstance(p, Lts):
+            return {e for e, _n in p.graph.moves[p.node] if e is not None and e != TOCK}
         if isinstance(p, Run):
             return p.events.mentions()
         if isinstance(p, Deadline):
