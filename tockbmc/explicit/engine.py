@@ -519,7 +519,8 @@ def with_element_spec(q: Query, a: ast.Assertion, config: Configuration) -> Quer
         interp = Interpreter(spec.element, ranges_dict(setup.ranges), python_settings(setup.constants),
                              dict(spec.defined), timed=q.timed)
         literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
-        graph = element_lts(interp, spec.impl.renames, literals, q.spec_name)
+        owner = None if spec.impl.renames else (spec.element.name, q.element.name)  # renamed as RoboTool does
+        graph = element_lts(interp, spec.impl.renames, literals, q.spec_name, owner=owner)
     except Unbounded as exc:
         raise Unsupported(None, f"{q.spec_name} stands for a specification, so its state graph is listed, which needs "
                                 f"a finite range for every value from outside: {exc}") from None

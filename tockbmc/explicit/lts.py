@@ -22,9 +22,12 @@ LTS_LIMIT = 20_000  # configurations of the element on the specification's side
 
 
 def element_lts(interp: Interpreter, renames: tuple[tuple[tuple, tuple], ...], literals: dict[str, EnumValue],
-                name: str, limit: int = LTS_LIMIT) -> Lts:
+                name: str, limit: int = LTS_LIMIT, owner: tuple[str, str] | None = None) -> Lts:
     """The state graph of the interpreter's element, its channels renamed by `renames` (`[[ a <- b ]]`:
-    a channel `a`, or an event of it, becomes `b`); raises `Unsupported` past `limit` configurations."""
+    a channel `a`, or an event of it, becomes `b`), or, with `owner` = (this element's name, the
+    other's), each channel `this::x` named `other::x`, as RoboTool renames the events of two
+    elements compared (its issue robochart-csp-gen#91, quoted in the suite's test10); raises
+    `Unsupported` past `limit` configurations."""
     index: dict[Hashable, int] = {}
     moves: list[tuple[tuple[tuple | None, int], ...]] = [()]  # node 0: the choice of starting values
     ticks: set[int] = set()
@@ -46,17 +49,20 @@ def element_lts(interp: Interpreter, renames: tuple[tuple[tuple, tuple], ...], l
         n = index[c]
         if interp.terminated(c):
             ticks.add(n)
-        moves[n] = tuple((_event(s, renames, literals), node(s.target)) for s in interp.steps(c))
+        moves[n] = tuple((_event(s, renames, literals, owner), node(s.target)) for s in interp.steps(c))
     return Lts(LtsGraph(tuple(moves), frozenset(ticks)), 0)
 
 
-def _event(s: Step, renames: tuple[tuple[tuple, tuple], ...], literals: dict[str, EnumValue]) -> tuple | None:
+def _event(s: Step, renames: tuple[tuple[tuple, tuple], ...], literals: dict[str, EnumValue],
+           owner: tuple[str, str] | None) -> tuple | None:
     if s.kind == "internal":
         return None
     if s.kind == "tock":
         return TOCK
     assert s.event is not None
     e: tuple = (*s.event.channel, *(literals.get(v, v) if isinstance(v, str) else v for v in s.event.values))
+    if owner is not None and isinstance(e[0], str) and e[0].startswith(f"{owner[0]}::"):
+        e = (f"{owner[1]}::{e[0][len(owner[0]) + 2:]}", *e[1:])
     for old, new in renames:
         if e[: len(old)] == old:  # renamings apply at once: the first that matches
             return (*new, *e[len(old):])
