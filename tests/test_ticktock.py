@@ -9,6 +9,7 @@ internal choice made before time passes is told apart from one that is still ope
 from __future__ import annotations
 
 import json
+from fractions import Fraction
 from functools import cache
 from pathlib import Path
 
@@ -19,7 +20,7 @@ import tockbmc
 from tockbmc.check import check
 from tockbmc.explicit.engine import check_explicit
 from tockbmc.model.config import configure
-from tockbmc.model.ranges import Ranges
+from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Result
 from tockbmc.report.results import schema
 
@@ -111,3 +112,41 @@ def test_two_model_elements_one_renamed_as_the_specification() -> None:
         assert [s.event for s in r.trace] == ["tock", "Offer::a.in"], engine
         assert r.extra["tock_refusals"] == [{"step": 1, "offered": ["Offer::a.in", "tock"]}]
         assert "ChooseAsOffer has this observation" in (r.reason or "")
+
+
+VALUES_RCT = """
+stm In {
+  event a : int
+  var x : int
+  initial i
+  state s {}
+  state t {}
+  transition t0 { from i to s }
+  transition t1 { from s to t trigger a?x condition x != 1 }
+}
+"""
+VALUES_ASSERTIONS = """
+timed csp S csp-begin
+Timed(OneStep) {
+  AnyA = In::a.in?v -> STOP
+}
+csp-end
+timed assertion V0 : AnyA refines In in the tick-tock model
+timed assertion V1 : AnyA refines In
+"""
+
+
+def test_a_specification_accepting_any_value_is_listed_value_by_value(tmp_path: Path) -> None:
+    """AnyA accepts a.in with any value; In refuses a.in.1.  With core_int = 0..1 both values are
+    listed, and <a.in.1> is a trace of AnyA but not of In: V0 and V1 are violated, shown by a trace
+    (or observation) of AnyA starting with it (both engines).  Without a range the values cannot be listed: unsupported, saying why."""
+    (tmp_path / "m.rct").write_text(VALUES_RCT)
+    (tmp_path / "m.assertions").write_text(VALUES_ASSERTIONS)
+    project = tockbmc.load(tmp_path)
+    config = configure(project, default_ranges=Ranges({"core_int": Range(Fraction(0), Fraction(1))}))
+    for rs in (check(project, bound=BOUND, config=config), check_explicit(project, None, BOUND, Ranges({}), {}, 60,
+                                                                          config=config)):
+        for r in rs:
+            assert r.verdict == "violated" and [s.event for s in r.trace][0] == "In::a.in.1", r
+    for r in check(project, bound=BOUND, config=configure(project)):
+        assert r.verdict == "unsupported" and "give the channel's type a small range" in (r.reason or ""), r

@@ -311,6 +311,7 @@ class _Check:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
         failures = self.a.semantic_model if self.a.semantic_model in (*FAILURES_MODELS, TICK_TOCK) else None
+        context.sem.values = _values_of(q, self.ranges, consts)
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
                        progress=self.progress, refusals=failures)
         if self.a.negated:
@@ -326,6 +327,21 @@ class _Check:
         self.proof = Proof.BOUNDED  # traces are listed up to a length only
         self.reasons.append(inc.reason)
         return None
+
+
+def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callable[[tuple], list[tuple] | None]:
+    """Every value of each of the element's channels within the ranges, by the interpreter, so that
+    a specification that accepts any value (`c?x`) can still have its traces listed."""
+    from tockbmc.explicit.engine import channel_values, python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable
+
+    assert q.context is not None
+    literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
+    try:
+        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed)
+    except (NotInterpretable, Unsupported):
+        return lambda prefix: None
+    return channel_values(interp, q.element, literals)
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,

@@ -508,6 +508,31 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                                  "complete")
 
 
+VALUES_LISTED = 64  # values of one channel listed where a specification accepts any (`c?x`)
+
+
+def channel_values(interp: Interpreter, element: ast.StateMachine | ast.Controller | ast.Module,
+                   literals: dict[str, EnumValue]) -> Callable[[tuple], list[tuple] | None]:
+    """`Semantics.values` for an element: every value tuple of a channel within the interpreter's
+    ranges, None where a type has no range, holds records, or gives more than `VALUES_LISTED`."""
+    types = element_types(element)
+
+    def values(prefix: tuple) -> list[tuple] | None:
+        ts = types.get(tuple(prefix))
+        if ts is None:
+            return None
+        try:
+            domains = [interp.domain(t, (prefix[0],)) for t in ts]
+        except Unbounded:
+            return None
+        if math.prod(len(d) for d in domains) > VALUES_LISTED or any(isinstance(v, dict) for d in domains for v in d):
+            return None
+        return [tuple(literals.get(v, v) if isinstance(v, str) else v for v in combo)
+                for combo in itertools.product(*domains)]
+
+    return values
+
+
 def with_element_spec(q: Query, a: ast.Assertion, config: Configuration) -> Query:
     """Refinement between two model elements: the query with the state graph of the element on the
     specification's side (`explicit.lts`) as its specification, listed within that element's
@@ -535,6 +560,7 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
     assert q.inclusion is not None and q.context is not None
     sem = q.context.sem
     sem.alphabet = element_alphabet(q.element)
+    sem.values = channel_values(search.interp, q.element, {v.text: v for v in sem.evaluator.literals.values()})
     channels = [Channel(prefix, arity) for prefix, arity in sem.alphabet] + [Channel(("tock",), 0)]
     wanted = max(1, min(INCLUSION_LENGTH, search.bound // 2))
     if a.semantic_model == TICK_TOCK:

@@ -68,6 +68,21 @@ def spec_traces(sem: Semantics, root: Proc, channels: list[Channel], length: int
 _FOREIGN = ("a channel outside the model's alphabet",)
 
 
+def _every_value(sem: Semantics, e: tuple) -> list[tuple] | None:
+    """The events a class of values (`OTHER` in some fields) stands for, every value listed, when
+    the channel's types and ranges make them few (`Semantics.values`); else None."""
+    for prefix, arity in sem.alphabet:
+        if len(e) != len(prefix) + arity or tuple(e[: len(prefix)]) != tuple(prefix):
+            continue
+        values = sem.values(prefix) if sem.values is not None else None
+        if values is None:
+            return None
+        fields = e[len(prefix):]
+        return [(*prefix, *v) for v in values
+                if all(x is OTHER or x == y for x, y in zip(fields, v, strict=True))]
+    return None
+
+
 def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
     """The specification's next events from a monitor state, each with the state after it."""
     events: set[tuple] = set()
@@ -76,8 +91,12 @@ def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
             raise Unenumerable("it offers events the model does not have (such as every event of `Events`)")
         for e in sem.candidates(p):
             if OTHER in e[1:] and sem.after(p, e):
-                raise Unenumerable(f"it offers any value on {_event_text(e[:2])}, so its traces cannot be "
-                                   "listed")
+                concrete = _every_value(sem, e)
+                if concrete is None:
+                    raise Unenumerable(f"it offers any value on {_event_text(e[:2])}, so its traces cannot be "
+                                       "listed (give the channel's type a small range)")
+                events.update(concrete)
+                continue
             events.add(e)
     out = []
     for e in sorted(events, key=repr):

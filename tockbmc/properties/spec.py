@@ -582,6 +582,10 @@ class Semantics:
     alphabet: list[tuple[Event, int]] = field(default_factory=list)
     _forced: dict[Proc, Proc] = field(default_factory=dict)
     timed: bool = True  # False in RoboTool's untimed semantics: no term ever does `tock`
+    # Every value tuple of a channel of the implementation (by its fixed fields), where its types
+    # and ranges make them few, else None: lets the specification's traces be listed where a term
+    # accepts any value (`c?x`).  Set by the engines, which know the ranges.
+    values: Callable[[Event], list[tuple] | None] | None = None
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
         if not isinstance(p, Thunk):
