@@ -174,8 +174,7 @@ class Refusals:
 
     def describe(self, unroller: Unroller, model: z3.ModelRef, k: int, spec_name: str) -> str:
         system = unroller.system
-        offered = sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
-                          if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
+        offered = offered_at(unroller, model, k)
         refused = self.refused(unroller, model, k)
         shown = ", ".join(offered) if offered else "nothing"
         if not refused:
@@ -183,6 +182,13 @@ class Refusals:
                     "trace, so it cannot refuse what the model refuses")
         return (f"{system.name} is stable and offers only {shown}; every stable state of {spec_name} after this trace "
                 f"accepts an event the model refuses ({'; '.join(refused)})")
+
+
+def offered_at(unroller: Unroller, model: z3.ModelRef, k: int) -> list[str]:
+    """The visible events (by channel, `tock` included) the element offers at step k of the run."""
+    system = unroller.system
+    return sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
+                   if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
 
 
 # ------------------------------------------------------------------ the specification refining the model

@@ -25,7 +25,7 @@ from tockbmc.properties.deadlock import (
     untimed_deadlock_goals,
     watch_loops,
 )
-from tockbmc.properties.failures import FAILURES_MODELS, Refusals
+from tockbmc.properties.failures import FAILURES_MODELS, Refusals, offered_at
 from tockbmc.properties.goals import ElementSpec, Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics, Stop
@@ -159,6 +159,7 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     left = _side(ev, project, a.subject, a.subject_is_process, a.pos)
     right = _side(ev, project, a.other or "", a.other_is_process, a.pos)
     spec_element = None
+    spec: Proc
     if isinstance(left, Implementation) and isinstance(right, Implementation):
         # Two model elements: the renamed one (else the right one) stands for the specification,
         # as its state graph (`explicit.lts`); the other is checked as a model element.
@@ -170,15 +171,15 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
                                     "under other CSP operators")
         found, _name, found_settings = _resolve(project, other)
         spec_element = ElementSpec(other, found, found_settings, _defined(project, other))
-        spec: Proc = Stop(True)  # replaced by the element's state graph (`given_spec`)
+        spec = Stop(True)  # replaced by the element's state graph (`given_spec`)
         left_spec = other is left
-    elif isinstance(left, Implementation) == isinstance(right, Implementation):
+    elif isinstance(left, Implementation) and isinstance(right, Proc):
+        impl, spec, left_spec = left, right, False
+    elif isinstance(right, Implementation) and isinstance(left, Proc):
+        impl, spec, left_spec = right, left, True
+    else:
         raise Unsupported(None, "refinement between two CSP specifications is not supported; one side must be a "
                                 "model element (possibly in a CSP context)")
-    else:
-        impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)  # type: ignore[assignment]
-        left_spec = impl is right
-    assert isinstance(impl, Implementation) and isinstance(spec, Proc)
     if impl.renames:
         raise Unsupported(None, "renaming the model element checked is not supported; rename the other side")
     spec_name = a.subject if left_spec else a.other
@@ -349,24 +350,17 @@ def _tock_refusals(unroller: Unroller, model: z3.ModelRef, k: int) -> list[dict[
     for j in range(k):
         if number_at(unroller, model, system.act, j) != system.TOCK:
             continue
-        entry: dict[str, object] = {"step": j + 1, "offered": _offered(unroller, model, j)}
+        entry: dict[str, object] = {"step": j + 1, "offered": offered_at(unroller, model, j)}
         if j == k - 1 and _refused_tock(unroller, model, k):
             entry["refused"] = ext.tock_refusal(unroller, model, j)
         out.append(entry)
     return out
 
 
-def _offered(unroller: Unroller, model: z3.ModelRef, k: int) -> list[str]:
-    """The visible events the model offers at step k of the run (by channel)."""
-    system = unroller.system
-    return sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
-                   if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
-
-
 def _describe_tock(unroller: Unroller, model: z3.ModelRef, k: int, spec: str) -> str:
     ext = unroller.system.extension
     assert isinstance(ext, TickTockMonitor)
-    offered = ", ".join(_offered(unroller, model, k - 1)) or "nothing"
+    offered = ", ".join(offered_at(unroller, model, k - 1)) or "nothing"
     refused = ext.tock_refusal(unroller, model, k - 1)
     name = unroller.system.name
     if not refused:

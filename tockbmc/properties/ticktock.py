@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import z3
 
+from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model.errors import Unsupported
@@ -115,12 +116,12 @@ class TickTockMonitor(MonitorExtension):
     def _next(self, system: TransitionSystem, s: int, c: int, values: list) -> z3.ArithRef:
         if self.channels[c].prefix != TOCK:
             return self._delta(s, c, values)
-        groups = self.groups[s]
+        keeps = [self.keeps(system, s, g) for g in self.groups[s]]
 
         def decide(i: int, kept: frozenset[int]) -> z3.ArithRef:
-            if i == len(groups):
+            if i == len(keeps):
                 return z3.IntVal(self.tock_next[s][kept])
-            return z3.If(self.keeps(system, s, groups[i]), decide(i + 1, kept | {i}), decide(i + 1, kept))
+            return z3.If(keeps[i], decide(i + 1, kept | {i}), decide(i + 1, kept))
 
         return decide(0, frozenset())
 
@@ -128,7 +129,7 @@ class TickTockMonitor(MonitorExtension):
         """Before a tock at step k that no state of the specification can match: per group of stable
         terms that can let time pass, an event it accepts that the model refuses."""
         system = unroller.system
-        s = number_at(unroller, model, system.cur["monitor"], k)
+        s = number_at(unroller, model, system.cur[names.MONITOR], k)
         shown = []
         for g in self.groups.get(s, ()):
             o = next((o for o in g.acceptance if true_at(unroller, model, self.refusals.refuses(system, s, o), k)),
