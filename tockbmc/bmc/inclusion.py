@@ -165,20 +165,21 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
     def refused_before(r: SpecRefusal) -> Callable[[TransitionSystem], z3.BoolRef]:
         return lambda s: offers_within(s, mon, r, channels, channel_of)
 
-    def system_for(o: Observation) -> TransitionSystem:
+    def system_for(o: Observation, ticks: bool) -> TransitionSystem:
         guards = {j: refused_before(r) for j, r in o.tocks}
-        return make(lambda s: TraceFollower(s, SpecTrace(o.events, o.ticks and o.maximal), guards))
+        return make(lambda s: TraceFollower(s, SpecTrace(o.events, ticks), guards))
 
     for o, r in checks:
         def target(s: TransitionSystem, r: SpecRefusal | None = r) -> z3.BoolRef:
             return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None else followed(s)
 
-        outcome = bmc(system_for(o), target, bound, timeout(), induction=True, progress=progress)
+        ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
+        outcome = bmc(system_for(o, ticks), target, bound, timeout(), induction=True, progress=progress)
         if outcome.status == Status.FOUND:
             continue
-        steps = observation_steps(o, channels, spec_name)
+        steps = observation_steps(o, channels, spec_name, ticks)
         seen: dict[str, object] = {"tock_refusals": tock_refusal_list(o, channels)}
-        what = (f"{spec_name} has this observation{' and then terminates' if o.ticks and r is None else ''}"
+        what = (f"{spec_name} has this observation{' and then terminates' if ticks else ''}"
                 + (f", stable at its end accepting {acceptance_text(channels, r.acceptance)}" if r is not None else "")
                 + f", and {element}")
         if outcome.status == Status.PROVED:

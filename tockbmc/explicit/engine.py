@@ -656,7 +656,7 @@ def _observed(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
         what = (f"{q.spec_name} has this observation{' and then terminates' if ticks else ''}"
                 + (f", stable at its end accepting {acceptance_text(checker.channels, r.acceptance)}"
                    if r is not None else "") + f", and {q.element.name}")
-        shown = observation_steps(o, checker.channels, q.spec_name)
+        shown = observation_steps(o, checker.channels, q.spec_name, ticks)
         seen: dict[str, object] = {"tock_refusals": tock_refusal_list(o, checker.channels)}
         if not search.complete:
             return result(Verdict.UNKNOWN, f"{what} was not shown to make it within {search.bound} visible steps",

@@ -53,7 +53,7 @@ def spec_traces(sem: Semantics, root: Proc, channels: list[Channel], length: int
         todo: list[tuple[int, tuple[tuple, ...]]] = [(mon.initial, ())]
         while todo and len(out) <= cap:
             state, trace = todo.pop()
-            nexts = [] if len(trace) == length else _moves(mon, sem, state)
+            nexts = [] if len(trace) == length else next_events(mon, sem, state)
             if mon.can_tick(state):
                 out.append(SpecTrace(trace, True))
             elif not nexts:
@@ -83,7 +83,7 @@ def _every_value(sem: Semantics, e: tuple) -> list[tuple] | None:
     return None
 
 
-def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
+def next_events(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
     """The specification's next events from a monitor state, each with the state after it."""
     events: set[tuple] = set()
     for p in mon.states[state]:

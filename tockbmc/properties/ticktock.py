@@ -41,7 +41,7 @@ from tockbmc.properties.failures import (
     refuse_context,
 )
 from tockbmc.properties.goals import number_at, true_at
-from tockbmc.properties.inclusion import _moves
+from tockbmc.properties.inclusion import next_events
 from tockbmc.properties.process import Context, MonitorExtension, _event_text
 from tockbmc.properties.spec import TOCK, Channel, Monitor, Proc, Semantics
 
@@ -188,7 +188,7 @@ def spec_observations(mon: Monitor, sem: Semantics, channels: list[Channel], len
         o = todo.pop()
         nexts: list[Observation] = []
         if len(o.events) < length:
-            nexts += [Observation((*o.events, e), o.tocks, s) for e, s in _moves(mon, sem, o.state) if e != TOCK]
+            nexts += [Observation((*o.events, e), o.tocks, s) for e, s in next_events(mon, sem, o.state) if e != TOCK]
             nexts += [Observation((*o.events, TOCK), (*o.tocks, (len(o.events), r)), s)
                       for r, s in tock_refusals(mon, sem, o.state, channels, o.events) if s != Monitor.DEAD]
         ticks = mon.can_tick(o.state)
@@ -231,14 +231,15 @@ def final_refusals(mon: Monitor, sem: Semantics, channels: list[Channel], o: Obs
     return [SpecRefusal(o.events, o.state, acc) for acc in accs]
 
 
-def observation_steps(o: Observation, channels: list[Channel], spec_name: str) -> tuple[TraceStep, ...]:
-    """An observation as trace steps, each tock's note naming the acceptance it carries."""
+def observation_steps(o: Observation, channels: list[Channel], spec_name: str, ticks: bool) -> tuple[TraceStep, ...]:
+    """An observation as trace steps (then ✓ if `ticks`), each tock's note naming the acceptance it
+    carries."""
     tocks = dict(o.tocks)
-    names = [_event_text(e) for e in o.events] + (["✓"] if o.ticks else [])
+    shown = [_event_text(e) for e in o.events] + (["✓"] if ticks else [])
     return tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event",
                            f"a trace of {spec_name}" + (f", stable accepting {acceptance_text(channels, tocks[j].acceptance)}"
                                                         f" before the tock" if j in tocks else ""), {}, {})
-                 for j, e in enumerate(names))
+                 for j, e in enumerate(shown))
 
 
 def tock_refusal_list(o: Observation, channels: list[Channel]) -> list[dict[str, object]]:
