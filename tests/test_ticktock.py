@@ -150,3 +150,10 @@ def test_a_specification_accepting_any_value_is_listed_value_by_value(tmp_path: 
             assert r.verdict == "violated" and [s.event for s in r.trace][0] == "In::a.in.1", r
     for r in check(project, bound=BOUND, config=configure(project)):
         assert r.verdict == "unsupported" and "give the channel's type a small range" in (r.reason or ""), r
+
+
+def test_explore_refuses_a_model_element_as_the_specification() -> None:
+    """explore varies ranges as parameters; the element standing for the specification is listed
+    within fixed ones, so explore says so rather than follow a placeholder."""
+    out = run_cli(["explore", MODEL, "-a", "M1", "--bound", str(BOUND)])
+    assert "unsupported: explore's ranges are parameters" in out.stdout
