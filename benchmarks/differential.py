@@ -1,11 +1,12 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
-[--specs] [--data] [--untimed]
+[--specs] [--data] [--untimed] [--tick-tock]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` four
 refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
-assertions and seven refinements in the failures models), checked with
+assertions and seven refinements in the failures models; with `--tick-tock`, five refinements in the
+tick-tock model, the model on the left of three and the specification on the left of two), checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
 `--timeout` seconds per assertion.  With `--data` the machines also hold a sequence, a set and a
 tuple, updated and read by their actions and guards (quantifiers too), and receive a sequence
@@ -30,9 +31,9 @@ from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool]) -> tuple[int, list | str | None]:
-    seed, timeout, controllers, specs, data, untimed = job  # past the timeout an outcome is unknown, so not comparable
-    rct, assertions = random_case(seed, controllers, specs, data, untimed)
+def run(job: tuple[int, float, float, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
+    seed, timeout, controllers, specs, data, untimed, tick_tock = job  # past the timeout an outcome is unknown
+    rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock)
     try:
         return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
     except tockbmc.ModelError:
@@ -55,10 +56,11 @@ def main() -> None:
     parser.add_argument("--data", action="store_true", help="machines with sequences, sets and tuples")
     parser.add_argument("--untimed", action="store_true",
                         help="also check the untimed forms and refinements in the failures models")
+    parser.add_argument("--tick-tock", action="store_true", help="also check refinements in the tick-tock model")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
-    seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed)
+    seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock)
              for seed in range(args.seed, args.seed + args.cases)]
     with multiprocessing.Pool(args.jobs) as pool:
         done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)

@@ -141,11 +141,12 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
 
 
 def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False,
-                    untimed: bool = False, timed: bool = True) -> str:
+                    untimed: bool = False, timed: bool = True, tick_tock: bool = False) -> str:
     """Nine assertions of M; with `specs`, also four refinements of specifications that tell some
     values of M's events apart (an input, an output, a call), after the nine; with `untimed`, the
-    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12);
-    `timed=False` leaves the nine out."""
+    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12); with
+    `tick_tock`, refinements in the tick-tock model (§7.13), either side; `timed=False` leaves the
+    nine out."""
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
              f"{pick(states)} is reachable in M", f"{pick(states)} is not reachable in M", "M terminates",
              "M is divergence-free", "M is deterministic"]
@@ -156,6 +157,8 @@ def assertions_text(states: list[str], pick: Callable[[list], object], specs: bo
         reach = f"{pick(states)} is reachable in M"
         text += "".join(f"untimed assertion U{k}: {f}.\n" for k, f in enumerate(UNTIMED + [reach]))
         text += FAILURES
+    if tick_tock:
+        text += TICK_TOCK
     return text
 
 
@@ -189,6 +192,30 @@ untimed assertion F3: M does not refine Any in the failures divergences model.
 timed assertion F4: M refines TAny in the failures model.
 untimed assertion F5: Few refines M in the failures model.
 untimed assertion F6: Stopped refines M in the failures divergences model.
+"""
+
+
+# The tick-tock model, specifications in a Timed section (each prefix lets time pass while it waits).
+# `TTAny` chooses one channel internally and keeps it while time passes, so after a tock of M only
+# the branches accepting nothing M refuses there go on; `TTAnyOrStop` may also stop; `TTExt`
+# accepts every channel, so M refines it only where it refuses nothing before a tock.  `TTFew` and
+# `TTStopped` are on the left: M must make their observations, refusals before tocks included.
+TICK_TOCK = """timed csp TTSpecs csp-begin
+Timed(OneStep) {
+  TTAny = (M::a.in?x -> TTAny) |~| (M::b.out?x -> TTAny) |~| (M::c.in -> TTAny) |~| (M::c.out -> TTAny)
+          |~| (M::opCall?x -> TTAny) |~| (M::terminate -> SKIP)
+  TTAnyOrStop = TTAny |~| STOP
+  TTExt = (M::a.in?x -> TTExt) [] (M::b.out?x -> TTExt) [] (M::c.in -> TTExt) [] (M::c.out -> TTExt)
+          [] (M::opCall?x -> TTExt) [] (M::terminate -> SKIP)
+  TTFew = (M::c.in -> STOP) |~| (M::a.in.0 -> STOP) |~| (M::terminate -> SKIP) |~| STOP
+  TTStopped = STOP
+}
+csp-end
+timed assertion TT0: M refines TTAny in the tick-tock model.
+timed assertion TT1: M refines TTAnyOrStop in the tick-tock model.
+timed assertion TT2: M does not refine TTExt in the tick-tock model.
+timed assertion TT3: TTFew refines M in the tick-tock model.
+timed assertion TT4: TTStopped refines M in the tick-tock model.
 """
 
 
@@ -320,12 +347,12 @@ def _visible(r: Result) -> int:
 
 
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
-                untimed: bool = False) -> tuple[str, str]:
+                untimed: bool = False, tick_tock: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
-    with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms
-    (`assertions_text`); with `data`, a machine with sequences, sets and tuples (`data_machine_text`;
-    check it with `DATA_RANGES`)."""
+    with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
+    with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
+    with sequences, sets and tuples (`data_machine_text`; check it with `DATA_RANGES`)."""
     rng = random.Random(seed)
     make = data_machine_text if data else network_text if rng.random() < controllers else machine_text
     rct, states = make(rng.choice, rng.randint)
-    return rct, assertions_text(states, rng.choice, specs, untimed)
+    return rct, assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)

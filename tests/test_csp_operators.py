@@ -1002,7 +1002,8 @@ assertion KSet: K refines KS in the traces model with constant p of K set to 1 a
 
 
 def test_renaming_is_unsupported_with_its_line(tmp_path) -> None:
-    """§4: renaming is outside the subset. The assertion on it is `unsupported`, with a reason
+    """§4: renaming is outside the subset, but for a model element compared with another
+    (semantics.md §7.5). The assertion on a renamed specification is `unsupported`, with a reason
     naming the line of the renaming; another CSP assertion in the same file (M refines e.2 ->
     STOP, counterexample <M::e.out.1>) and a machine assertion still get their verdicts."""
     text = """
@@ -1012,13 +1013,13 @@ Timed(OneStep) {
 }
 csp-end
 timed csp Ren csp-begin
-Ren = M::D__(0) [[ M::terminate <- M::terminate ]]
+Ren = (M::terminate -> SKIP) [[ M::terminate <- M::terminate ]]
 csp-end
 assertion C: M refines Ren in the traces model.
 assertion G: M refines Good in the traces model.
 assertion NT: M does not terminate.
 """
-    line = text.splitlines().index("Ren = M::D__(0) [[ M::terminate <- M::terminate ]]") + 1
+    line = text.splitlines().index("Ren = (M::terminate -> SKIP) [[ M::terminate <- M::terminate ]]") + 1
     rs = run(tmp_path, OUT, text)
     r = rs["C"]
     assert r.verdict == "unsupported", (r.verdict, r.reason)

@@ -22,7 +22,7 @@ assertions_text, compare, machine_text, network_text, data_machine_text = (
 
 @st.composite
 def cases(draw: st.DrawFn, make: Callable, specs: bool = False, untimed: bool = False,
-          timed: bool = True) -> tuple[str, str]:
+          timed: bool = True, tick_tock: bool = False) -> tuple[str, str]:
     def pick(options: list) -> object:
         return draw(st.sampled_from(options))
 
@@ -30,7 +30,7 @@ def cases(draw: st.DrawFn, make: Callable, specs: bool = False, untimed: bool = 
         return draw(st.integers(lo, hi))
 
     rct, states = make(pick, number)
-    return rct, assertions_text(states, pick, specs, untimed, timed)
+    return rct, assertions_text(states, pick, specs, untimed, timed, tick_tock)
 
 
 # With divergence-freedom and determinism among the forms (session 6), machines cost about 1.5 s a
@@ -83,6 +83,14 @@ def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> No
 @_settings(3)
 @given(cases(machine_text, untimed=True, timed=False))
 def test_engines_agree_on_random_machines_untimed_and_in_the_failures_models(case: tuple[str, str]) -> None:
+    _agree(*case)
+
+
+# Refinements in the tick-tock model (docs/semantics.md §7.13) alone, five a machine, about 2 s a
+# case (`benchmarks/differential.py --tick-tock` runs more).
+@_settings(2)
+@given(cases(machine_text, timed=False, tick_tock=True))
+def test_engines_agree_on_random_machines_in_the_tick_tock_model(case: tuple[str, str]) -> None:
     _agree(*case)
 
 

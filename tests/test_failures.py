@@ -138,6 +138,10 @@ untimed assertion G8: NInt does not refine N in the failures model.
         assert "accepting nothing" in (rs["G5"].reason or "")
 
 
-def test_tick_tock_is_unsupported_with_its_reason(tmp_path) -> None:
+def test_tick_tock_includes_the_failures_check_at_the_end_of_a_trace(tmp_path) -> None:
+    """The tick-tock model records the stable refusal at the end of every trace too
+    (docs/semantics.md §7.13, case (c)): as for F1, M stable in s refuses b, which Ext accepts,
+    before any event; tests/test_ticktock.py has what the tick-tock model adds."""
     for rs in both(tmp_path, "assertion T: M refines Ext in the tick-tock model.\n"):
-        assert rs["T"].verdict == "unsupported" and "MS::TT" in (rs["T"].reason or "")
+        assert rs["T"].verdict == "violated" and [s.event for s in rs["T"].trace if s.kind != "internal"] == []
+        assert "every stable state of Ext" in (rs["T"].reason or "") and rs["T"].extra["tock_refusals"] == []

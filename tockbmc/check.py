@@ -9,7 +9,7 @@ replayed by the independent interpreter (`explicit.replay`) before it is returne
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Hashable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -36,9 +36,10 @@ from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import query
+from tockbmc.properties.ticktock import TICK_TOCK
 
 if TYPE_CHECKING:  # the interpreter is imported when a replay needs it
-    from tockbmc.explicit.interpreter import Interpreter
+    from tockbmc.explicit.interpreter import Interpreter, Step
 
 DEFAULT_BOUND = 40
 SPLIT_DEPTH = 8  # steps of two runs searched from a configuration where the next step is open
@@ -112,6 +113,9 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         try:
             q = query(project, self.a)
+            if q.spec_element is not None:  # two model elements: the other one's state graph, from the interpreter
+                from tockbmc.explicit.engine import with_element_spec
+                q = with_element_spec(q, self.a, self.config)
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
@@ -306,21 +310,38 @@ class _Check:
         def make(follower: Callable[[TransitionSystem], TraceFollower]) -> TransitionSystem:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
-        failures = self.a.semantic_model if self.a.semantic_model in FAILURES_MODELS else None
+        failures = self.a.semantic_model if self.a.semantic_model in (*FAILURES_MODELS, TICK_TOCK) else None
+        context.sem.values = _values_of(q, self.ranges, consts)
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
                        progress=self.progress, refusals=failures)
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
-                return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace)
+                return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace,
+                                   extra=inc.extra)
             return self.result(Verdict.UNKNOWN, f"{inc.reason}; a bounded search alone gives no verdict"
                                if inc.verdict == Verdict.HOLDS else inc.reason, proof=Proof.NONE, depth=None,
-                               trace=inc.trace)
+                               trace=inc.trace, extra=inc.extra)
         if inc.verdict != Verdict.HOLDS:
             return self.result(inc.verdict, inc.reason, trace=inc.trace, depth=None,
-                               proof=Proof.TRACE if inc.verdict == Verdict.VIOLATED else Proof.NONE)
+                               proof=Proof.TRACE if inc.verdict == Verdict.VIOLATED else Proof.NONE, extra=inc.extra)
         self.proof = Proof.BOUNDED  # traces are listed up to a length only
         self.reasons.append(inc.reason)
         return None
+
+
+def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callable[[tuple], list[tuple] | None]:
+    """Every value of each of the element's channels within the ranges, by the interpreter, so that
+    a specification that accepts any value (`c?x`) can still have its traces listed."""
+    from tockbmc.explicit.engine import channel_values, python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter, NotInterpretable
+
+    assert q.context is not None
+    literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
+    try:
+        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed)
+    except (NotInterpretable, Unsupported):
+        return lambda prefix: None
+    return channel_values(interp, q.element, literals)
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
@@ -397,14 +418,15 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     not interpret); raises `ReplayFailure` when it runs it but cannot follow the trace.
     """
     from tockbmc.explicit.engine import is_state
-    from tockbmc.explicit.replay import replay
+    from tockbmc.explicit.replay import replay, replay_watched
 
     def follow(interp: Interpreter) -> None:
-        refusal = _refusal_check(q, a, interp, trace) if goal.failures else None
+        if goal.failures:
+            start, watch, refused = _refusal_check(q, a, interp)
+            replay_watched(interp, trace, choices, q.context, start, watch, refused)
+            return
 
         def final(config: object, steps: list) -> bool:
-            if refusal is not None:
-                return refusal(config)
             if goal.target is terminated:
                 return interp.terminated(config)  # type: ignore[arg-type]
             if goal.target is stuck:
@@ -422,11 +444,18 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     return _replayed(q, ranges, consts, follow)
 
 
-def _refusal_check(q: Query, a: ast.Assertion, interp: Interpreter, trace: tuple) -> Callable[[object], bool]:
-    """Where a failures-refinement counterexample ends: the specification's monitor is dead or the
-    element has terminated (a traces violation), or the configuration is stable and refuses, for
-    each stable state of the specification, an event that state accepts (`ConcreteRefusals`); a
-    divergence (a lasso) ends where internal steps go on, in the failures-divergences model."""
+def _refusal_check(q: Query, a: ast.Assertion, interp: Interpreter
+                   ) -> tuple[int, Callable[..., Hashable], Callable[[object, list, Hashable], bool]]:
+    """How the interpreter checks where a failures or tick-tock refinement counterexample ends,
+    following the specification's monitor along the run (the start, the step, the end):
+
+    the monitor is dead (a traces violation, or, in the tick-tock model, a tock after a refusal
+    no stable state of the specification that can let time pass makes, the monitor being
+    filtered at each tock by the configuration's own offers, `ConcreteRefusals.after_tock`) or the
+    element has terminated (what follows it is refused), or the configuration is stable and
+    refuses, for each stable state of the specification, an event that state accepts
+    (`ConcreteRefusals`); a divergence (a lasso) ends where internal steps go on, in the
+    failures-divergences model."""
     from tockbmc.explicit.engine import ConcreteRefusals
     from tockbmc.properties.spec import Monitor
 
@@ -434,23 +463,32 @@ def _refusal_check(q: Query, a: ast.Assertion, interp: Interpreter, trace: tuple
     assert context is not None and context.spec is not None
     monitor = Monitor(context.sem, context.spec, [])
     refusals = ConcreteRefusals(interp, q, monitor)
-    state = monitor.initial
-    for s in trace:
-        if s.kind in ("event", "tock") and s.note not in ("before the model starts", "after the model terminates"):
-            state = monitor.after(state, ("tock",) if s.kind == "tock" else
-                                  (*s.channel, *(refusals.literals.get(v, v) if isinstance(v, str) else v
-                                                 for v in s.values)))
+    tick_tock = a.semantic_model == TICK_TOCK
 
-    def final(config: object) -> bool:
-        if state == Monitor.DEAD or interp.terminated(config):  # type: ignore[arg-type]
-            return True
+    def visible(config: object) -> list | None:
+        """The configuration's visible steps (None if it is not stable)."""
         steps = []
         for st in interp.steps(config):  # type: ignore[arg-type]
             status = "visible" if st.event is None else context.status(st.event.channel, len(st.event.values))
             if st.kind == "internal" or status == "hidden":
-                return a.semantic_model == "failures divergences"
+                return None
             if status != "blocked":
                 steps.append(st)
+        return steps
+
+    def watch(state: Hashable, config: object, _steps: list, s: Step) -> Hashable:
+        assert isinstance(state, int)
+        if s.kind == "tock" and tick_tock:
+            return refusals.after_tock(state, visible(config) or [])
+        return monitor.after(state, refusals.event(s))
+
+    def final(config: object, _steps: list, state: Hashable) -> bool:
+        assert isinstance(state, int)
+        if state == Monitor.DEAD or interp.terminated(config):  # type: ignore[arg-type]
+            return True
+        steps = visible(config)
+        if steps is None:
+            return a.semantic_model == "failures divergences"
         return refusals.failure(state, steps) is not None
 
-    return final
+    return monitor.initial, watch, final

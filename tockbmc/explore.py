@@ -101,6 +101,9 @@ class _Explore:
     def run(self) -> Exploration:
         try:
             q = query(self.plan.config.project, self.a)
+            if q.spec_element is not None:
+                raise Unsupported(self.a.pos, "explore's ranges are parameters, and a model element on the "
+                                  "specification's side is listed by the interpreter within fixed ranges")
             if q.determinism or q.inclusion is not None:
                 what = "determinism" if q.determinism else "a specification's traces on the model's right"
                 raise Unsupported(self.a.pos, f"explore decides assertions whose violation is one run to a "

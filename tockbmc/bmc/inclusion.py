@@ -11,7 +11,7 @@ unknown.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import z3
 
@@ -24,6 +24,13 @@ from tockbmc.properties.failures import SpecRefusal, acceptance_text, divergent_
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, TraceFollower, followed, spec_traces
 from tockbmc.properties.process import _event_text, alphabet_of, channels_of
 from tockbmc.properties.spec import Monitor, Proc, Semantics
+from tockbmc.properties.ticktock import (
+    TICK_TOCK,
+    Observation,
+    observation_checks,
+    observation_steps,
+    tock_refusal_list,
+)
 
 Make = Callable[[Callable[[TransitionSystem], TraceFollower]], TransitionSystem]
 
@@ -33,6 +40,7 @@ class Inclusion:
     verdict: Verdict  # holds, violated or unknown
     reason: str
     trace: tuple[TraceStep, ...] = ()
+    extra: dict[str, object] = field(default_factory=dict)  # more for the result (tick-tock: `tock_refusals`)
 
 
 def _following(make: Make, t: SpecTrace) -> TransitionSystem:
@@ -63,6 +71,8 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
     channels, _ = channels_of(probe)
     sem.alphabet = alphabet_of(probe)
     wanted = max(1, min(INCLUSION_LENGTH, bound // 2))
+    if refusals == TICK_TOCK:
+        return _observations(make, sem, spec, spec_name, element, wanted, bound, timeout, progress)
     traces, length = spec_traces(sem, spec, channels, wanted, cap)
     if length < wanted:
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {cap} traces of {wanted} events; only those "
@@ -138,6 +148,49 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
 
 
 REFUSALS_CAP = 256
+
+
+def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, length: int, bound: int,
+                  timeout: Callable[[], float | None], progress: Progress | None) -> Inclusion:
+    """In the tick-tock model (docs/semantics.md §7.13): every observation of the specification with
+    up to `length` events is one of the element's.  The element must perform each maximal one, at
+    each tock stable and offering nothing outside the acceptance the observation gives there
+    (`ticktock.tock_refusals`), and after each observation make each of the specification's
+    stable refusals there (stable, short of termination, offering nothing outside it)."""
+    probe = _following(make, SpecTrace((), False))
+    channels, channel_of = channels_of(probe)
+    mon = Monitor(sem, spec, channels)
+    observations, checks, length = observation_checks(mon, sem, channels, length)
+
+    def refused_before(r: SpecRefusal) -> Callable[[TransitionSystem], z3.BoolRef]:
+        return lambda s: offers_within(s, mon, r, channels, channel_of)
+
+    def system_for(o: Observation, ticks: bool) -> TransitionSystem:
+        guards = {j: refused_before(r) for j, r in o.tocks}
+        return make(lambda s: TraceFollower(s, SpecTrace(o.events, ticks), guards))
+
+    for o, r in checks:
+        def target(s: TransitionSystem, r: SpecRefusal | None = r) -> z3.BoolRef:
+            return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None else followed(s)
+
+        ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
+        outcome = bmc(system_for(o, ticks), target, bound, timeout(), induction=True, progress=progress)
+        if outcome.status == Status.FOUND:
+            continue
+        steps = observation_steps(o, channels, spec_name, ticks)
+        seen: dict[str, object] = {"tock_refusals": tock_refusal_list(o, channels)}
+        what = (f"{spec_name} has this observation{' and then terminates' if ticks else ''}"
+                + (f", stable at its end accepting {acceptance_text(channels, r.acceptance)}" if r is not None else "")
+                + f", and {element}")
+        if outcome.status == Status.PROVED:
+            return Inclusion(Verdict.VIOLATED, f"{what} cannot make it (the refusals before its tocks included) in any "
+                                               f"number of steps ({outcome.reason})", steps, seen)
+        why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
+        return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to make it ({why})", steps, seen)
+    return Inclusion(Verdict.HOLDS, f"every tick-tock observation of {spec_name} with up to {length} events is one of "
+                                    f"{element}'s: {sum(1 for o in observations if o.maximal)} observations listed, "
+                                    f"each with the refusals before its tocks, and {len(checks)} checks in all, each "
+                                    f"within {bound} steps")
 
 
 def _after(r: SpecRefusal) -> str:

@@ -23,7 +23,8 @@ from dataclasses import replace
 from fractions import Fraction
 from typing import NamedTuple, cast
 
-from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, fill, unknowns
+from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, Unbounded, fill, unknowns
+from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
@@ -44,10 +45,19 @@ from tockbmc.properties.failures import (
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
-from tockbmc.properties.queries import query
+from tockbmc.properties.queries import given_spec, query
 from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
+from tockbmc.properties.ticktock import (
+    TICK_TOCK,
+    kept_after,
+    observation_checks,
+    observation_steps,
+    tock_groups,
+    tock_refusal_list,
+)
 
 DEFAULT_MAX_STATES = 1_000_000
+REFUSAL_MODELS = (*FAILURES_MODELS, TICK_TOCK)  # the models whose checks read what a configuration refuses
 # The assertions searched lazily: each decided by a condition on one node at a time.
 LAZY_KINDS = ("refines", "equals", "terminates", "timelock-free", "reachable")
 
@@ -120,6 +130,9 @@ class Search:
                 raise Unsupported(None, "the specification has too many states") from None
         self.literals = _literals(q)
         self._after: dict[tuple, int] = {}
+        # The tick-tock model: the monitor state after a tock, from the state before and the stable
+        # configuration's visible steps (`ConcreteRefusals.after_tock`); None elsewhere.
+        self.tock_filter: Callable[[int, list[Step]], int] | None = None
         self.reset()
 
     def reset(self) -> None:
@@ -177,13 +190,15 @@ class Search:
             if status == "hidden" and s.kind == "event":
                 hidden_possible = True
             classified.append((s, status))
+        shown = [s for s, status in classified if s.kind in ("event", "tock") and status != "hidden"]
         for s, status in classified:
             if s.kind == "tock" and hidden_possible:
                 continue  # hidden events are internal, hence urgent (maximal progress)
             visible = s.kind in ("event", "tock") and status != "hidden"
             nxt_mon = mon
             if visible and self.monitor is not None and mon is not None:
-                nxt_mon = self._monitor_after(mon, s)
+                nxt_mon = (self.tock_filter(mon, shown) if s.kind == "tock" and self.tock_filter is not None
+                           else self._monitor_after(mon, s))
             kind = s.kind if visible else "internal"
             note = s.note or (_hidden_note(s) if status == "hidden" else "")
             out.append(Edge(Step(kind, s.event if visible else None, s.target, note), (s.target, nxt_mon), s))
@@ -460,6 +475,8 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
 
     try:
         q = query(project, a)
+        if q.spec_element is not None:
+            q = with_element_spec(q, a, config)
         setup = config.setup(a, q.element, q.settings)
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         consts = python_settings(setup.constants)
@@ -471,7 +488,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
         if q.inclusion is None or q.goals:  # equals: this direction first
-            lazy = a.kind in LAZY_KINDS and a.semantic_model not in FAILURES_MODELS  # refusals read every value
+            lazy = a.kind in LAZY_KINDS and a.semantic_model not in REFUSAL_MODELS  # refusals read every value
             search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
             decided = _decide(a, q, search, result)
             if q.inclusion is None or decided.verdict != Verdict.HOLDS:
@@ -491,13 +508,63 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                                  "complete")
 
 
+VALUES_LISTED = 64  # values of one channel listed where a specification accepts any (`c?x`)
+
+
+def channel_values(interp: Interpreter, element: ast.StateMachine | ast.Controller | ast.Module,
+                   literals: dict[str, EnumValue]) -> Callable[[tuple], list[tuple] | None]:
+    """`Semantics.values` for an element: every value tuple of a channel within the interpreter's
+    ranges, None where a type has no range, holds records, or gives more than `VALUES_LISTED`."""
+    types = element_types(element)
+
+    def values(prefix: tuple) -> list[tuple] | None:
+        ts = types.get(tuple(prefix))
+        if ts is None:
+            return None
+        try:
+            domains = [interp.domain(t, (prefix[0],)) for t in ts]
+        except Unbounded:
+            return None
+        if math.prod(len(d) for d in domains) > VALUES_LISTED or any(isinstance(v, dict) for d in domains for v in d):
+            return None
+        return [tuple(literals.get(v, v) if isinstance(v, str) else v for v in combo)
+                for combo in itertools.product(*domains)]
+
+    return values
+
+
+def with_element_spec(q: Query, a: ast.Assertion, config: Configuration) -> Query:
+    """Refinement between two model elements: the query with the state graph of the element on the
+    specification's side (`explicit.lts`) as its specification, listed within that element's
+    ranges and constants as the assertion sets them."""
+    assert q.spec_element is not None and q.context is not None
+    spec = q.spec_element
+    setup = config.setup(a, spec.element, spec.settings)
+    try:
+        interp = Interpreter(spec.element, ranges_dict(setup.ranges), python_settings(setup.constants),
+                             dict(spec.defined), timed=q.timed)
+        literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
+        owner = None if spec.impl.renames else (spec.element.name, q.element.name)  # renamed as RoboTool does
+        graph = element_lts(interp, spec.impl.renames, literals, q.spec_name, owner=owner)
+    except Unbounded as exc:
+        raise Unsupported(None, f"{q.spec_name} stands for a specification, so its state graph is listed, which needs "
+                                f"a finite range for every value from outside: {exc}") from None
+    except NotInterpretable as exc:
+        raise Unsupported(None, f"{q.spec_name} stands for a specification, and the interpreter cannot list its "
+                                f"states: {exc.what} ({exc.pos})") from None
+    return given_spec(q, graph)
+
+
 def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result]) -> Result:
     """Every listed trace of the specification is one the element can perform (`properties.inclusion`)."""
     assert q.inclusion is not None and q.context is not None
     sem = q.context.sem
     sem.alphabet = element_alphabet(q.element)
+    sem.values = channel_values(search.interp, q.element, {v.text: v for v in sem.evaluator.literals.values()})
     channels = [Channel(prefix, arity) for prefix, arity in sem.alphabet] + [Channel(("tock",), 0)]
     wanted = max(1, min(INCLUSION_LENGTH, search.bound // 2))
+    if a.semantic_model == TICK_TOCK:
+        return _observed(a, q, search, result, wanted)
     traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
     if length < wanted:
         return result(Verdict.UNKNOWN, f"{q.spec_name} has too many traces of {wanted} events")
@@ -561,6 +628,50 @@ def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Calla
     return None
 
 
+def _observed(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result], length: int) -> Result:
+    """The tick-tock model with the specification on the left (docs/semantics.md §7.13): the element
+    makes every observation of it with up to `length` events, the refusals before its tocks and
+    its stable refusals at the end included (as `bmc.inclusion` checks it)."""
+    assert q.context is not None and q.inclusion is not None
+    sem = q.context.sem
+    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, []))
+    mon = Monitor(sem, q.inclusion, checker.channels)
+    checker.monitor = mon
+    observations, checks, length = observation_checks(mon, sem, checker.channels, length)
+
+    def within(r: SpecRefusal) -> Callable[[Config, list[Edge]], bool]:
+        def holds(config: Config, steps: list[Edge]) -> bool:
+            return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
+                    and all(checker.within(r, e.step) for e in steps))
+        return holds
+
+    def terminates(ticks: bool) -> Callable[[Config, list[Edge]], bool]:
+        return lambda config, steps: not ticks or search.interp.terminated(config)
+
+    for o, r in checks:
+        ticks = o.ticks and o.maximal and r is None
+        end = within(r) if r is not None else terminates(ticks)
+        if _runs_to(search, o.events, end, {j: within(t) for j, t in o.tocks}):
+            continue
+        what = (f"{q.spec_name} has this observation{' and then terminates' if ticks else ''}"
+                + (f", stable at its end accepting {acceptance_text(checker.channels, r.acceptance)}"
+                   if r is not None else "") + f", and {q.element.name}")
+        shown = observation_steps(o, checker.channels, q.spec_name, ticks)
+        seen: dict[str, object] = {"tock_refusals": tock_refusal_list(o, checker.channels)}
+        if not search.complete:
+            return result(Verdict.UNKNOWN, f"{what} was not shown to make it within {search.bound} visible steps",
+                          shown, seen)
+        return result(Verdict.HOLDS if a.negated else Verdict.VIOLATED,
+                      f"{what} cannot make it (the refusals before its tocks included; every reachable configuration "
+                      "was explored)", shown, seen)
+    if a.negated:
+        return result(Verdict.UNKNOWN, f"every tick-tock observation of {q.spec_name} with up to {length} events is "
+                                       f"one of {q.element.name}'s; a bounded search alone gives no verdict")
+    return result(Verdict.HOLDS, f"every tick-tock observation of {q.spec_name} with up to {length} events is one of "
+                                 f"{q.element.name}'s ({sum(1 for o in observations if o.maximal)} observations "
+                                 f"listed, each with the refusals before its tocks, and {len(checks)} checks in all)")
+
+
 def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bool:
     """Whether the element can perform r's events and then be stable, short of termination, offering
     only events of r's acceptance."""
@@ -577,9 +688,12 @@ def _performs(search: Search, t: SpecTrace) -> bool:
     return _runs_to(search, t.events, lambda config, steps: not t.ticks or search.interp.terminated(config))
 
 
-def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, list[Edge]], bool]) -> bool:
+def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, list[Edge]], bool],
+             guards: dict[int, Callable[[Config, list[Edge]], bool]] | None = None) -> bool:
     """Whether some run performs `events` in order (internal steps between) and ends in a
-    configuration for which `end` holds (given its steps); raises MemoryError past the state limit."""
+    configuration for which `end` holds (given its steps); `guards[i]`, where given, must hold of
+    the configuration that takes event i (tick-tock: the refusal before a tock); raises
+    MemoryError past the state limit."""
     names = [_event_text(e) for e in events]
     start: list[tuple[Hashable, int]] = [((c, None), 0) for c in search.interp.initial()]
     seen = set(start)
@@ -596,6 +710,8 @@ def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, l
                 node = (nxt, i)
             elif i < len(names) and (step.kind == "tock" and names[i] == "tock" or
                                      step.event is not None and step.event.name == names[i]):
+                if guards and i in guards and not guards[i](config, steps):
+                    continue
                 node = (nxt, i + 1)
             else:
                 continue
@@ -627,6 +743,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         return interp.terminated(key[0])  # type: ignore[index]
 
     kind, negated = a.kind, a.negated
+    tick_tock = a.semantic_model == TICK_TOCK
     if kind in ("refines", "equals"):
         assert q.context is not None and search.monitor is not None
         context, monitor = q.context, search.monitor
@@ -640,9 +757,11 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 rests[state] = after_termination(context.sem, monitor, context.impl.tail, state)
             return "after" if rests[state] is not None else None
 
-        refusals = ConcreteRefusals(interp, q, monitor) if a.semantic_model in FAILURES_MODELS else None
+        refusals = ConcreteRefusals(interp, q, monitor) if a.semantic_model in REFUSAL_MODELS else None
         if refusals is not None:
-            refuse_context(context.impl)
+            refuse_context(context.impl, "the tick-tock model" if tick_tock else "the failures models")
+        if refusals is not None and tick_tock:
+            search.tock_filter = refusals.after_tock
         if refusals is not None and a.semantic_model == "failures divergences":
             assert context.spec is not None
             whole = Monitor(context.sem, context.spec, refusals.channels)  # every reachable state, to look for divergence
@@ -678,6 +797,10 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         if hit is not None:
             verdict = Verdict.HOLDS if negated else Verdict.VIOLATED
             trace = search.trace(hit[0])
+            seen = _tock_refusals(search, hit[0], refusals) if tick_tock and refusals is not None else None
+            more: dict[str, object] = {"tock_refusals": seen} if seen is not None else {}
+            tocks = (" (each tock keeping only the states of the specification that make the refusal before it)"
+                     if seen else "")
             head = tuple(TraceStep(0, ".".join(str(x) for x in e), "event", "before the model starts", {}, {})
                          for e in context.impl.head)
             if hit[1] == "after":
@@ -690,18 +813,29 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                 offers = sorted({_label(e.step) for e in search.steps(hit[0]) if e.step.kind != "internal"})
                 return result(verdict, f"{name} is stable and offers only {', '.join(offers) or 'nothing'}; every "
                                        f"stable state of {spec} after this trace accepts an event the model refuses "
-                                       f"({'; '.join(sorted(set(refused[hit[0]])))})", head + trace,
-                              {"refusal": sorted(set(refused[hit[0]]))})
-            return result(verdict, f"{spec} cannot do the last event of this trace", head + trace)
+                                       f"({'; '.join(sorted(set(refused[hit[0]])))}){tocks}", head + trace,
+                              {"refusal": sorted(set(refused[hit[0]])), **more})
+            if seen and "refused" in seen[-1] and seen[-1]["step"] == len(trace):
+                offered = ", ".join(cast("list[str]", seen[-1]["offered"])) or "nothing"
+                why = (f"{name} is stable, offers only {offered} and lets time pass (tick-tock records the refusal of "
+                       f"everything else before the tock); every stable state of {spec} that can let time pass there "
+                       f"accepts an event the model refuses ({'; '.join(cast('list[str]', seen[-1]['refused']))})"
+                       if seen[-1]["refused"] else
+                       f"{name} is stable, offers only {offered} and lets time pass; {spec} cannot let time pass "
+                       "after the events before it")
+                return result(verdict, why, head + trace, more)
+            return result(verdict, f"{spec} cannot do the last event of this trace{tocks}", head + trace, more)
         if refusals is not None and a.semantic_model == "failures divergences":
             loop = search.nearest_divergence()
             if loop is not None:
                 return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
                               f"{name} can repeat internal steps for ever (divergence), which {spec} cannot",
                               search.trace(loop))
+        claim = (f"every tick-tock observation is one of {spec}'s: its trace, the refusal before each tock and the "
+                 "stable refusal at its end" if tick_tock else f"every trace is a trace of {spec}")
         if negated:
-            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"every trace is a trace of {spec}; {scope()}")
-        return done(f"every trace is a trace of {spec}")
+            return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"{claim}; {scope()}")
+        return done(claim)
     if q.context is not None and (q.context.impl.head or q.context.impl.continues):
         raise Unsupported(None, "a process with a prefix or a continuation after termination is checked for "
                            "refinement only")
@@ -896,6 +1030,27 @@ class ConcreteRefusals:
                 return True
         return False
 
+    def after_tock(self, state: int, steps: list[Step]) -> int:
+        """The tick-tock model: the monitor state after a tock from a stable configuration with these
+        visible steps, kept to the specification's stable terms that can let time pass and accept
+        nothing the configuration refuses (`properties.ticktock`)."""
+        groups = tock_groups(self.monitor, self.sem, state, self.channels)
+        offered = {self.event(s) for s in steps}
+        kept = frozenset(i for i, g in enumerate(groups)
+                         if not any(self.refused(offered, state, o) for o in g.acceptance))
+        return kept_after(self.monitor, state, groups, kept)
+
+    def tock_refusal(self, state: int, steps: list[Step]) -> list[str]:
+        """Per group of the specification's stable terms that can let time pass, an event it
+        accepts that a stable configuration with these visible steps refuses."""
+        offered = {self.event(s) for s in steps}
+        shown = []
+        for g in tock_groups(self.monitor, self.sem, state, self.channels):
+            o = next((o for o in g.acceptance if self.refused(offered, state, o)), None)
+            if o is not None:
+                shown.append(offer_text(self.channels, o))
+        return sorted(set(shown))
+
     def failure(self, state: int, steps: list[Step]) -> list[str] | None:
         """The events refused (one per stable term of the specification), if the refusal of a stable
         configuration with these visible steps is not one the specification can make; else None."""
@@ -909,6 +1064,30 @@ class ConcreteRefusals:
                 return None
             shown.append(offer_text(self.channels, o))
         return shown
+
+
+def _tock_refusals(search: Search, key: Hashable, refusals: ConcreteRefusals) -> list[dict[str, object]]:
+    """The refusal observed before each tock of the run to `key` (tick-tock), numbered as
+    `Search.trace` numbers its steps: what the configuration offers (it refuses the rest), and for
+    a tock that left the monitor dead, per group of the specification's stable states that can let
+    time pass, an event the group accepts and the configuration refuses."""
+    path: list[tuple[Hashable, Edge]] = []
+    cur = search.parent.get(key)
+    while cur is not None:
+        path.append(cur)
+        cur = search.parent.get(cur[0])
+    path.reverse()
+    out: list[dict[str, object]] = []
+    for i, (prev, edge) in enumerate(path):
+        if edge.step.kind != "tock":
+            continue
+        steps = [e.step for e in search.steps(prev) if e.step.kind != "internal"]
+        entry: dict[str, object] = {"step": i + 1, "offered": sorted({_label(s) for s in steps})}
+        before, after = cast("tuple[Config, int]", prev)[1], cast("tuple[Config, int]", edge.node)[1]
+        if after == Monitor.DEAD and before != Monitor.DEAD:
+            entry["refused"] = refusals.tock_refusal(before, steps)
+        out.append(entry)
+    return out
 
 
 def _label(step: Step) -> str:

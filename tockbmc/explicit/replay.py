@@ -55,16 +55,29 @@ class _Inputs(Mapping[tuple, tuple]):
 def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str, object],
            context: Context | None, final: Callable[[Config, list[Step]], bool]) -> None:
     """Follow `trace` (its visible steps) with the interpreter, or raise `ReplayFailure`."""
+    replay_watched(interp, trace, choices, context, None, lambda w, config, steps, s: None,
+                   lambda config, steps, w: final(config, steps))
+
+
+Watch = Callable[[Hashable, Config, list[Step], Step], Hashable]  # (watched, configuration, its steps, step) -> next
+
+
+def replay_watched(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str, object],
+                   context: Context | None, start: Hashable, watch: Watch,
+                   final: Callable[[Config, list[Step], Hashable], bool]) -> None:
+    """`replay`, carrying a value along each run (`watch` gives it after each visible step, from
+    the configuration the step leaves and every step it offers): the tick-tock model's monitor,
+    whose tocks depend on what the configuration refuses.  `final` reads the value at the end."""
     visible = [s for s in trace if s.kind in ("event", "tock") and s.note not in _OUTSIDE]
     seen: set[Hashable] = set()
-    todo: deque[tuple[Config, int]] = deque()
+    todo: deque[tuple[Config, int, Hashable]] = deque()
     for c in interp.initial(choices):
-        if (c, 0) not in seen:
-            seen.add((c, 0))
-            todo.append((c, 0))
+        if (c, 0, start) not in seen:
+            seen.add((c, 0, start))
+            todo.append((c, 0, start))
     best, offered = 0, set[str]()
     while todo:
-        config, i = todo.popleft()
+        config, i, watched = todo.popleft()
         expected = visible[i] if i < len(visible) else None
         inputs = _Inputs(expected.channel if expected is not None and expected.kind == "event" else None,
                          expected.values if expected is not None else ())
@@ -73,7 +86,7 @@ def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str,
         hidden_possible = any(st == "hidden" and s.kind == "event" for s, st in zip(steps, statuses, strict=True))
         allowed = [s for s, st in zip(steps, statuses, strict=True)
                    if st != "blocked" and not (s.kind == "tock" and hidden_possible)]
-        if expected is None and final(config, allowed):
+        if expected is None and final(config, allowed, watched):
             return
         if i > best:
             best, offered = i, set()
@@ -81,10 +94,10 @@ def replay(interp: Interpreter, trace: tuple[TraceStep, ...], choices: dict[str,
             if s not in allowed:
                 continue
             if s.kind == "internal" or st == "hidden":
-                nxt = (s.target, i)
+                nxt = (s.target, i, watched)
             elif expected is not None and s.kind == expected.kind and (
                     s.kind == "tock" or (s.event is not None and s.event.name == expected.event)):
-                nxt = (s.target, i + 1)
+                nxt = (s.target, i + 1, watch(watched, config, allowed, s))
             else:
                 if i == best:
                     offered.add("tock" if s.kind == "tock" else s.event.name if s.event else "?")

@@ -33,7 +33,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.properties.deadlock import _has_cycle, _without_quantifier
 from tockbmc.properties.goals import number_at, true_at
 from tockbmc.properties.process import Implementation, MonitorExtension, _event_text, field_is
-from tockbmc.properties.spec import ANY, OTHER, TOCK, Channel, Input, Monitor, Semantics, TooLarge, _extends
+from tockbmc.properties.spec import ANY, OTHER, TOCK, Channel, Input, Monitor, Proc, Semantics, TooLarge, _extends
 
 FAILURES_MODELS = ("failures", "failures divergences")
 FOREIGN = ("a channel outside the model's alphabet",)  # an event no implementation channel carries
@@ -51,28 +51,28 @@ class Offer:
 
 def acceptances(mon: Monitor, sem: Semantics, state: int, channels: list[Channel]) -> list[tuple[Offer, ...]]:
     """The acceptance of each stable term of the specification in a monitor state."""
-    out = []
-    for p in mon.states[state]:
-        if not sem.stable(p):
+    return [acceptance(mon, sem, state, p, channels) for p in mon.states[state] if sem.stable(p)]
+
+
+def acceptance(mon: Monitor, sem: Semantics, state: int, p: Proc, channels: list[Channel]) -> tuple[Offer, ...]:
+    """The classes of events the stable term `p` of monitor state `state` accepts."""
+    offers: list[Offer] = []
+    if sem.after(p, FOREIGN):  # accepts events of every channel (`RUN(Events)`)
+        offers.append(Offer(None))
+    for c, ch in enumerate(channels):
+        try:
+            classes = mon.values(state, ch)
+        except TooLarge:
+            raise Unsupported(None, "the specification names too many values of one channel to compare "
+                                    "refusals") from None
+        offers += [Offer(c, vs) for vs in classes if sem.after(p, (*ch.prefix, *vs))]
+    for e in sem.mentions(p):  # named events of channels the element never shows
+        if any(_extends(e, ch.prefix) or _extends(ch.prefix, e) for ch in channels) or e == TOCK:
             continue
-        offers: list[Offer] = []
-        if sem.after(p, FOREIGN):  # accepts events of every channel (`RUN(Events)`)
+        if sem.after(p, tuple(OTHER if x is ANY or isinstance(x, Input) else x for x in e)):
             offers.append(Offer(None))
-        for c, ch in enumerate(channels):
-            try:
-                classes = mon.values(state, ch)
-            except TooLarge:
-                raise Unsupported(None, "the specification names too many values of one channel to compare "
-                                        "refusals") from None
-            offers += [Offer(c, vs) for vs in classes if sem.after(p, (*ch.prefix, *vs))]
-        for e in sem.mentions(p):  # named events of channels the element never shows
-            if any(_extends(e, ch.prefix) or _extends(ch.prefix, e) for ch in channels) or e == TOCK:
-                continue
-            if sem.after(p, tuple(OTHER if x is ANY or isinstance(x, Input) else x for x in e)):
-                offers.append(Offer(None))
-                break
-        out.append(tuple(dict.fromkeys(offers)))
-    return out
+            break
+    return tuple(dict.fromkeys(offers))
 
 
 def offer_text(channels: list[Channel], o: Offer) -> str:
@@ -90,24 +90,24 @@ def divergent_state(mon: Monitor, sem: Semantics) -> int | None:
     return None
 
 
-def refuse_context(impl: Implementation) -> None:
-    """The failures check covers the element's own configurations: not a prefix before it, nor a
+def refuse_context(impl: Implementation, models: str = "the failures models") -> None:
+    """The refusals checks cover the element's own configurations: not a prefix before it, nor a
     process after its termination."""
     if impl.head:
-        raise Unsupported(None, "refinement in the failures models is not supported when a prefix comes before "
-                                "the model")
+        raise Unsupported(None, f"refinement in {models} is not supported when a prefix comes before the model")
     if impl.continues:
-        raise Unsupported(None, "refinement in the failures models is not supported when a process follows the "
-                                "model's termination")
+        raise Unsupported(None, f"refinement in {models} is not supported when a process follows the model's "
+                                "termination")
 
 
 class Refusals:
     """The failures check beside a specification monitor (`MonitorExtension`) in BMC."""
 
-    def __init__(self, ext: MonitorExtension, divergences: bool, spec_name: str):
+    def __init__(self, ext: MonitorExtension, divergences: bool, spec_name: str,
+                 models: str = "the failures models"):
         self.ext = ext
         mon, sem = ext.monitor, ext.context.sem
-        refuse_context(ext.context.impl)
+        refuse_context(ext.context.impl, models)
         self.accept = {s: acceptances(mon, sem, s, ext.channels) for s in range(ext.count)}
         if divergences:
             s = divergent_state(mon, sem)
@@ -174,8 +174,7 @@ class Refusals:
 
     def describe(self, unroller: Unroller, model: z3.ModelRef, k: int, spec_name: str) -> str:
         system = unroller.system
-        offered = sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
-                          if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
+        offered = offered_at(unroller, model, k)
         refused = self.refused(unroller, model, k)
         shown = ", ".join(offered) if offered else "nothing"
         if not refused:
@@ -183,6 +182,13 @@ class Refusals:
                     "trace, so it cannot refuse what the model refuses")
         return (f"{system.name} is stable and offers only {shown}; every stable state of {spec_name} after this trace "
                 f"accepts an event the model refuses ({'; '.join(refused)})")
+
+
+def offered_at(unroller: Unroller, model: z3.ModelRef, k: int) -> list[str]:
+    """The visible events (by channel, `tock` included) the element offers at step k of the run."""
+    system = unroller.system
+    return sorted({".".join(str(x) for x in system.label(m)[0]) for m in system.moves
+                   if m.kind != "internal" and not m.blocked and true_at(unroller, model, system.enabled(m), k)})
 
 
 # ------------------------------------------------------------------ the specification refining the model

@@ -18,7 +18,7 @@ from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
 from tockbmc.model.result import Verdict
-from tockbmc.properties.process import Context
+from tockbmc.properties.process import Context, Implementation
 from tockbmc.properties.spec import Proc
 
 _CLOSED_FORMULA_MS = 2000  # to decide a quantified formula whose values the model fixed
@@ -64,6 +64,17 @@ class Goal:
                     describe=describe, **more)  # type: ignore[arg-type]
 
 
+@dataclass(frozen=True)
+class ElementSpec:
+    """A model element on the specification's side of a refinement: as written (with its
+    renaming), resolved, its `D__` settings and the operations its controller defines."""
+
+    impl: Implementation
+    element: ast.StateMachine | ast.Controller | ast.Module
+    settings: tuple[tuple[str, ast.Expr], ...]
+    defined: tuple[tuple[str, ast.OperationDef], ...]
+
+
 @dataclass(frozen=True, kw_only=True)
 class Query:
     """How to decide one assertion: the element, its goals, and the CSP context it runs in."""
@@ -77,6 +88,10 @@ class Query:
     inclusion: Proc | None = None  # a specification every trace of which must be the element's
     determinism: bool = False  # searched before the goals: two runs, one trace, an event offered and refused
     spec_name: str = ""
+    # Refinement between two model elements: the one on the specification's side (with its
+    # resolved element and `D__` settings), whose state graph the engines build (`explicit.lts`)
+    # and give the query as its specification (`queries.given_spec`) before anything runs.
+    spec_element: ElementSpec | None = None
     timed: bool = True  # False: RoboTool's untimed semantics (no tock; `model.untimed` rewrites the element)
 
 

@@ -53,7 +53,7 @@ def spec_traces(sem: Semantics, root: Proc, channels: list[Channel], length: int
         todo: list[tuple[int, tuple[tuple, ...]]] = [(mon.initial, ())]
         while todo and len(out) <= cap:
             state, trace = todo.pop()
-            nexts = [] if len(trace) == length else _moves(mon, sem, state)
+            nexts = [] if len(trace) == length else next_events(mon, sem, state)
             if mon.can_tick(state):
                 out.append(SpecTrace(trace, True))
             elif not nexts:
@@ -68,7 +68,22 @@ def spec_traces(sem: Semantics, root: Proc, channels: list[Channel], length: int
 _FOREIGN = ("a channel outside the model's alphabet",)
 
 
-def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
+def _every_value(sem: Semantics, e: tuple) -> list[tuple] | None:
+    """The events a class of values (`OTHER` in some fields) stands for, every value listed, when
+    the channel's types and ranges make them few (`Semantics.values`); else None."""
+    for prefix, arity in sem.alphabet:
+        if len(e) != len(prefix) + arity or tuple(e[: len(prefix)]) != tuple(prefix):
+            continue
+        values = sem.values(prefix) if sem.values is not None else None
+        if values is None:
+            return None
+        fields = e[len(prefix):]
+        return [(*prefix, *v) for v in values
+                if all(x is OTHER or x == y for x, y in zip(fields, v, strict=True))]
+    return None
+
+
+def next_events(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
     """The specification's next events from a monitor state, each with the state after it."""
     events: set[tuple] = set()
     for p in mon.states[state]:
@@ -76,8 +91,12 @@ def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
             raise Unenumerable("it offers events the model does not have (such as every event of `Events`)")
         for e in sem.candidates(p):
             if OTHER in e[1:] and sem.after(p, e):
-                raise Unenumerable(f"it offers any value on {_event_text(e[:2])}, so its traces cannot be "
-                                   "listed")
+                concrete = _every_value(sem, e)
+                if concrete is None:
+                    raise Unenumerable(f"it offers any value on {_event_text(e[:2])}, so its traces cannot be "
+                                       "listed (give the channel's type a small range)")
+                events.update(concrete)
+                continue
             events.add(e)
     out = []
     for e in sorted(events, key=repr):
@@ -92,9 +111,13 @@ def _moves(mon: Monitor, sem: Semantics, state: int) -> list[tuple[tuple, int]]:
 class TraceFollower:
     """How many events of a fixed trace the element has performed (`follow`); other visible events are barred."""
 
-    def __init__(self, system: TransitionSystem, trace: SpecTrace):
+    def __init__(self, system: TransitionSystem, trace: SpecTrace,
+                 guards: dict[int, Callable[[TransitionSystem], z3.BoolRef]] | None = None):
         self.trace = trace
         self.system = system
+        # What the configuration must satisfy to take the trace's event at a position (the
+        # tick-tock model: the refusal before a tock), read before the step.
+        self.guards = guards or {}
 
     def slots(self) -> dict[str, z3.SortRef]:
         return {names.FOLLOW: z3.IntSort()}
@@ -114,7 +137,9 @@ class TraceFollower:
             label, _arity = system.label(m)
             values = [v for v, _t in system.label_values(m)]
             try:
-                matches = [z3.And(pos == j, _matches(label, values, e)) for j, e in enumerate(self.trace.events)]
+                matches = [z3.And(pos == j, _matches(label, values, e), *([self.guards[j](system)] if j in self.guards
+                                                                          else []))
+                           for j, e in enumerate(self.trace.events)]
             except ValueError as exc:
                 raise Unenumerable(str(exc)) from None
             cs.append(z3.Implies(act == m.index, z3.Or(matches) if matches else z3.BoolVal(False)))

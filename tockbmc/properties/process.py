@@ -55,6 +55,9 @@ class Implementation:
     tail: Proc = field(default_factory=Skip)  # what runs after the element terminates, in context
     head: tuple[tuple, ...] = ()  # events before the element starts
     continues: bool = False  # something other than ✓ follows the element's termination
+    # `[[ a <- b ]]` around the element: its channels' new names (outermost last).  Only a model
+    # element that stands for a specification (refinement between two elements) may be renamed.
+    renames: tuple[tuple[tuple, tuple], ...] = ()
 
 
 def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = frozenset()) -> Implementation | Proc:
@@ -129,6 +132,15 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
                 raise ev.error(c[0], "a prefix before a model process must name one event")
             inner.head = (event, *inner.head)
         return inner
+    if k == "rename":
+        inner = implementation(ev, c[0], env, seen)
+        if not isinstance(inner, Implementation):
+            return ev.proc(t, env)
+        if inner.ops or inner.head or inner.continues:
+            raise ev.error(t, "renaming a model process inside other operators is not supported")
+        pairs = tuple((ev.event(r.children[0], env), ev.event(r.children[-1], env)) for r in c[1:])
+        inner.renames = (*inner.renames, *pairs)
+        return inner
     if k in ("external", "internal", "interrupt", "timeout", "exception", "interleave", "replicated"):
         for x in c:
             if isinstance(x, Tree) and isinstance(_peek(ev, x, env, seen), Implementation):
@@ -162,8 +174,10 @@ def _definition(ev: Evaluator, d: Definition, env: Env, args: tuple[object, ...]
 class Context:
     """An `Implementation`'s operators as a `TransitionSystem` sees them, plus an optional monitor."""
 
-    def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = ""):
+    def __init__(self, impl: Implementation, sem: Semantics, spec: Proc | None = None, spec_name: str = "",
+                 monitor: type[MonitorExtension] | None = None):
         self.impl, self.sem, self.spec, self.spec_name = impl, sem, spec, spec_name
+        self.monitor = monitor or MonitorExtension  # the tick-tock model filters the monitor at each tock
 
     def status(self, label: tuple, arity: int) -> str:
         """Inside out: the first operator that hides or blocks the channel decides."""
@@ -205,7 +219,7 @@ class Context:
     def attach(self, system: TransitionSystem) -> MonitorExtension | None:
         if self.spec is None:
             return None
-        return MonitorExtension(system, self)
+        return self.monitor(system, self)
 
 
 def channels_of(system: TransitionSystem) -> tuple[list[Channel], dict[int, int]]:
@@ -260,12 +274,16 @@ class MonitorExtension:
             for e in context.impl.head:
                 start = self.monitor.after(start, e)
             self.start = start
-            self.table = self.monitor.table()
+            self.table = self._explore()
             self.count = len(self.monitor.states)
             self.bad_end = self._bad_end()
         except TooLarge:
             raise CspError(context.impl.pos, f"the specification {context.spec_name} has too many states "
                                              "to monitor") from None
+
+    def _explore(self) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
+        """The monitor's moves from every state it can reach (a subclass may reach more)."""
+        return self.monitor.table()
 
     def slots(self) -> dict[str, z3.SortRef]:
         return {names.MONITOR: z3.IntSort()}
@@ -283,9 +301,14 @@ class MonitorExtension:
             values = [v for v, _t in system.label_values(m)]
             by_state: z3.ArithRef = z3.IntVal(Monitor.DEAD)
             for s in reversed(range(self.count)):
-                by_state = z3.If(mon == s, self._delta(s, c, values), by_state)
+                by_state = z3.If(mon == s, self._next(system, s, c, values), by_state)
             new = z3.If(system.act == m.index, by_state, new)
         return system.nxt[names.MONITOR] == new
+
+    def _next(self, system: TransitionSystem, s: int, c: int, values: list) -> z3.ArithRef:
+        """The next monitor state after channel c's event with `values` from state s, in the
+        configuration before the step (which only the tick-tock model's tock reads)."""
+        return self._delta(s, c, values)
 
     def _delta(self, s: int, c: int, values: list) -> z3.ArithRef:
         """The next monitor state after channel c's event with `values`; the atoms' conditions are

@@ -26,10 +26,11 @@ from tockbmc.properties.deadlock import (
     watch_loops,
     watching_loops,
 )
-from tockbmc.properties.failures import FAILURES_MODELS, Refusals
-from tockbmc.properties.goals import Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
+from tockbmc.properties.failures import FAILURES_MODELS, Refusals, offered_at
+from tockbmc.properties.goals import ElementSpec, Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
 from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
-from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics
+from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics, Stop
+from tockbmc.properties.ticktock import TICK_TOCK, TickTockMonitor
 
 
 def _reaches(state: str) -> Target:
@@ -75,10 +76,9 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if not timed and a.kind == "timelock-free":
         raise Unsupported(None, "timelock-freedom is about tock, which RoboTool's untimed semantics does not have: "
                                 "RoboTool generates it in the timed semantics only")
-    if a.semantic_model == "tick-tock" and a.kind in ("refines", "equals"):
-        raise Unsupported(None, "the tick-tock model is not supported: RoboTool checks it as traces refinement "
-                                "between model-shifted processes (MS::TT(Q) [T= MS::TT(P)) that record refusals "
-                                "before each tock, which tockbmc does not encode")
+    if a.semantic_model == TICK_TOCK and a.kind in ("refines", "equals") and not timed:
+        raise Unsupported(None, "the tick-tock model records refusals before each tock, and RoboTool's untimed "
+                                "semantics has no tock")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
@@ -159,20 +159,39 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
     """
     left = _side(ev, project, a.subject, a.subject_is_process, a.pos)
     right = _side(ev, project, a.other or "", a.other_is_process, a.pos)
-    if isinstance(left, Implementation) == isinstance(right, Implementation):
-        what = "two model elements" if isinstance(left, Implementation) else "two CSP specifications"
-        raise Unsupported(None, f"refinement between {what} is not supported; one side must be a model element "
-                           "(possibly in a CSP context) and the other a CSP specification")
-    impl, spec = (left, right) if isinstance(left, Implementation) else (right, left)
-    assert isinstance(impl, Implementation) and isinstance(spec, Proc)
-    spec_name = a.other if impl is left else a.subject
+    spec_element = None
+    spec: Proc
+    if isinstance(left, Implementation) and isinstance(right, Implementation):
+        # Two model elements: the renamed one (else the right one) stands for the specification,
+        # as its state graph (`explicit.lts`); the other is checked as a model element.
+        impl, other = (right, left) if left.renames and not right.renames else (left, right)
+        if impl.renames:
+            raise Unsupported(None, "refinement between two renamed model elements is not supported")
+        if other.ops or other.head or other.continues:
+            raise Unsupported(None, "a model element on the specification's side is supported renamed only, not "
+                                    "under other CSP operators")
+        found, _name, found_settings = _resolve(project, other)
+        spec_element = ElementSpec(other, found, found_settings, _defined(project, other))
+        spec = Stop(True)  # replaced by the element's state graph (`given_spec`)
+        left_spec = other is left
+    elif isinstance(left, Implementation) and isinstance(right, Proc):
+        impl, spec, left_spec = left, right, False
+    elif isinstance(right, Implementation) and isinstance(left, Proc):
+        impl, spec, left_spec = right, left, True
+    else:
+        raise Unsupported(None, "refinement between two CSP specifications is not supported; one side must be a "
+                                "model element (possibly in a CSP context)")
+    if impl.renames:
+        raise Unsupported(None, "renaming the model element checked is not supported; rename the other side")
+    spec_name = a.subject if left_spec else a.other
     element, name, settings = _resolve(project, impl)
     goals: tuple[Goal, ...] = ()
-    failures = a.semantic_model in FAILURES_MODELS
-    if impl is left or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
+    tick_tock = a.semantic_model == TICK_TOCK
+    failures = a.semantic_model in FAILURES_MODELS or tick_tock
+    if not left_spec or a.kind == "equals":  # equality is refinement both ways, whichever side the model is on
         spec_text = spec_name or ""
         goals = _failures_goals(a, name, spec_text) if failures else (_refinement_goal(a, name, spec_text),)
-    inclusion = a.kind == "equals" or impl is right
+    inclusion = a.kind == "equals" or left_spec
     if inclusion and impl.head:
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a prefix "
                            "comes before the model")
@@ -180,8 +199,19 @@ def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Sema
         raise Unsupported(None, f"checking that {name} has every trace of {spec_name} is not supported when a process "
                            "follows the model's termination")
     return Query(assertion=a, element=element, goals=goals,
-                 context=Context(impl, sem, spec if goals else None, spec_name or ""), defined=_defined(project, impl),
-                 settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "")
+                 context=Context(impl, sem, spec if goals else None, spec_name or "",
+                                 TickTockMonitor if tick_tock else None), defined=_defined(project, impl),
+                 settings=settings, inclusion=spec if inclusion else None, spec_name=spec_name or "",
+                 spec_element=spec_element)
+
+
+def given_spec(q: Query, spec: Proc) -> Query:
+    """The query with `spec` (a model element's state graph) as its specification, on whichever
+    side the assertion put it (refinement between two model elements)."""
+    assert q.context is not None
+    context = Context(q.context.impl, q.context.sem, spec if q.context.spec is not None else None,
+                      q.context.spec_name, q.context.monitor)
+    return replace(q, context=context, inclusion=spec if q.inclusion is not None else None)
 
 
 def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller | ast.Module, name: str,
@@ -235,13 +265,17 @@ def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
 def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
     """`M refines Q in the failures [divergences] model`, M on the left (docs/semantics.md §7.12):
     traces refinement, then no stable refusal of M that Q cannot make after the same trace, then (in
-    the failures-divergences model, Q being divergence-free) no divergence of M."""
+    the failures-divergences model, Q being divergence-free) no divergence of M.  In the tick-tock
+    model (§7.13) the same, with Q's monitor filtered at each tock by M's refusal there
+    (`TickTockMonitor`), so a tock no stable state of Q can match leaves the monitor dead."""
     divergences = a.semantic_model == "failures divergences"
     made: dict[int, tuple[MonitorExtension, Refusals]] = {}
 
     def refusals(system: TransitionSystem) -> Refusals:
         ext = system.extension
         assert isinstance(ext, MonitorExtension)
+        if isinstance(ext, TickTockMonitor):
+            return ext.refusals
         if id(ext) not in made:
             made[id(ext)] = (ext, Refusals(ext, divergences, spec))
         return made[id(ext)][1]
@@ -254,19 +288,32 @@ def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
 
     traces = _refinement_goal(a, name, spec)
     claim = f"every trace is a trace of {spec}, and every stable refusal one {spec} can make after it"
+    if a.semantic_model == TICK_TOCK:
+        claim = (f"every tick-tock observation is one of {spec}'s: its trace, the refusal before each tock and the "
+                 "stable refusal at its end")
 
     def either(system: TransitionSystem) -> z3.BoolRef:  # searched together: the shortest of either kind first
         found = [traces.target(system), refused(system)]
         return z3.Or(found + [diverges(system)] if divergences and a.negated else found)
 
     def which(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
+        if _refused_tock(unroller, model, k):
+            return _describe_tock(unroller, model, k, spec)
+        tocks = " (each tock keeping only the states of the specification that make the refusal before it)" if (
+            isinstance(unroller.system.extension, TickTockMonitor)
+            and any(number_at(unroller, model, unroller.system.act, j) == unroller.system.TOCK
+                    for j in range(k))) else ""
         if true_at(unroller, model, traces.target(unroller.system), k):
-            return traces.describe(unroller, model, k)
+            return traces.describe(unroller, model, k) + tocks
         if true_at(unroller, model, refused(unroller.system), k) or not watching_loops(unroller.system):
-            return describe(unroller, model, k)
+            return describe(unroller, model, k) + tocks
         return _describe_divergence(unroller, model, k)
 
     def details(unroller: Unroller, model: z3.ModelRef, k: int) -> dict[str, object]:
+        if isinstance(unroller.system.extension, TickTockMonitor):
+            return {"tock_refusals": _tock_refusals(unroller, model, k),
+                    **({"refusal": refusals(unroller.system).refused(unroller, model, k)}
+                       if true_at(unroller, model, refused(unroller.system), k) else {})}
         if true_at(unroller, model, refused(unroller.system), k):
             return {"refusal": refusals(unroller.system).refused(unroller, model, k)}
         return {}
@@ -279,6 +326,50 @@ def _failures_goals(a: ast.Assertion, name: str, spec: str) -> tuple[Goal, ...]:
     if divergences:
         goals += divergence_goals(name, False)
     return goals
+
+
+def _refused_tock(unroller: Unroller, model: z3.ModelRef, k: int) -> bool:
+    """In the tick-tock model: the run's last step is a tock that left the monitor dead (the
+    model's refusal before it is not one the specification can make)."""
+    system = unroller.system
+    if not isinstance(system.extension, TickTockMonitor) or k == 0:
+        return False
+    return (number_at(unroller, model, system.cur[names.MONITOR], k) == Monitor.DEAD
+            and number_at(unroller, model, system.cur[names.MONITOR], k - 1) != Monitor.DEAD
+            and number_at(unroller, model, system.act, k - 1) == system.TOCK)
+
+
+def _tock_refusals(unroller: Unroller, model: z3.ModelRef, k: int) -> list[dict[str, object]]:
+    """The refusal observed before each tock of a run to step k (tick-tock): the tock's step in
+    the trace, what the model offers there (it refuses everything else), and, for a tock no state
+    of the specification can match, per group of its stable states that can let time pass an
+    event the group accepts and the model refuses."""
+    system = unroller.system
+    ext = system.extension
+    assert isinstance(ext, TickTockMonitor)
+    out: list[dict[str, object]] = []
+    for j in range(k):
+        if number_at(unroller, model, system.act, j) != system.TOCK:
+            continue
+        entry: dict[str, object] = {"step": j + 1, "offered": offered_at(unroller, model, j)}
+        if j == k - 1 and _refused_tock(unroller, model, k):
+            entry["refused"] = ext.tock_refusal(unroller, model, j)
+        out.append(entry)
+    return out
+
+
+def _describe_tock(unroller: Unroller, model: z3.ModelRef, k: int, spec: str) -> str:
+    ext = unroller.system.extension
+    assert isinstance(ext, TickTockMonitor)
+    offered = ", ".join(offered_at(unroller, model, k - 1)) or "nothing"
+    refused = ext.tock_refusal(unroller, model, k - 1)
+    name = unroller.system.name
+    if not refused:
+        return (f"{name} is stable, offers only {offered} and lets time pass; {spec} cannot let time pass after the "
+                "events before it")
+    return (f"{name} is stable, offers only {offered} and lets time pass (tick-tock records the refusal of "
+            f"everything else before the tock); every stable state of {spec} that can let time pass there accepts an "
+            f"event the model refuses ({'; '.join(refused)})")
 
 
 def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:

@@ -238,6 +238,31 @@ class EndBy(Proc):
     n: int
 
 
+class LtsGraph:
+    """A model element's state graph as a specification (`Lts` terms are its nodes): per node, its
+    moves as (event, next node), the event None for an internal step; and the nodes that have
+    terminated (they can do ✓).  Built by the explicit interpreter (`explicit.lts`), so that a model
+    element can stand where a specification does (refinement between two elements).  Compared by
+    identity: each is built once per check."""
+
+    def __init__(self, moves: tuple[tuple[tuple[tuple | None, int], ...], ...], ticks: frozenset[int]):
+        self.moves, self.ticks = moves, ticks
+
+
+@dataclass(frozen=True, eq=False)
+class Lts(Proc):
+    """A node of an `LtsGraph`."""
+
+    graph: LtsGraph
+    node: int
+
+    def __hash__(self) -> int:
+        return hash((id(self.graph), self.node))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Lts) and self.graph is other.graph and self.node == other.node
+
+
 # ---------------------------------------------------------------- evaluation
 
 
@@ -557,6 +582,10 @@ class Semantics:
     alphabet: list[tuple[Event, int]] = field(default_factory=list)
     _forced: dict[Proc, Proc] = field(default_factory=dict)
     timed: bool = True  # False in RoboTool's untimed semantics: no term ever does `tock`
+    # Every value tuple of a channel of the implementation (by its fixed fields), where its types
+    # and ranges make them few, else None: lets the specification's traces be listed where a term
+    # accepts any value (`c?x`).  Set by the engines, which know the ranges.
+    values: Callable[[Event], list[tuple] | None] | None = None
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
         if not isinstance(p, Thunk):
@@ -579,6 +608,8 @@ class Semantics:
         p = self.force(p)
         if isinstance(p, Skip):
             return True
+        if isinstance(p, Lts):
+            return p.node in p.graph.ticks
         if isinstance(p, Wait):
             return p.n <= 0
         if isinstance(p, EndBy):
@@ -594,6 +625,8 @@ class Semantics:
 
     def taus(self, p: Proc) -> list[Proc]:  # noqa: C901 - one case per operator
         p = self.force(p)
+        if isinstance(p, Lts):
+            return [Lts(p.graph, n) for e, n in p.graph.moves[p.node] if e is None]
         if isinstance(p, Deadline) and p.event is False:
             return []
         if isinstance(p, EndBy):
@@ -677,6 +710,8 @@ class Semantics:
             return [p] if tock and p.timed else []
         if isinstance(p, (Skip, Omega)):
             return []
+        if isinstance(p, Lts):  # its events name every value, so a class of unnamed values (OTHER) matches none
+            return [Lts(p.graph, n) for x, n in p.graph.moves[p.node] if x is not None and x == e]
         if isinstance(p, Run):
             return [p] if p.events.contains(e) or (tock and p.timed) else []
         if isinstance(p, Wait):
@@ -739,6 +774,8 @@ class Semantics:
         p = self.force(p)
         if isinstance(p, Prefix):
             return {tuple(ANY if isinstance(x, Input) else x for x in p.pattern)}
+        if isinstance(p, Lts):
+            return {e for e, _n in p.graph.moves[p.node] if e is not None and e != TOCK}
         if isinstance(p, Run):
             return p.events.mentions()
         if isinstance(p, Deadline):
@@ -862,11 +899,22 @@ class Monitor:
             procs = frozenset(p for p in procs if self.sem.stable(p))
         return self._state(self._closure(q for p in procs for q in self.sem.after(p, e)))
 
-    def table(self) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
-        """δ for every reachable state and channel: [(values, next state)], explored to a fixpoint."""
+    def after_tock(self, state: int, terms: Iterable[Proc]) -> int:
+        """The state after `tock` taken by `terms` only (stable terms of `state`): in the tick-tock
+        model, those whose refusal matched the one observed before the tock."""
+        if state == self.DEAD:
+            return self.DEAD
+        return self._state(self._closure(q for p in terms for q in self.sem.after(p, TOCK)))
+
+    def table(self, more: Callable[[int], None] | None = None) -> dict[tuple[int, int], list[tuple[tuple, int]]]:
+        """δ for every reachable state and channel: [(values, next state)], explored to a fixpoint;
+        `more(i)` is called for each state, so that a caller can add the states its own moves reach
+        (the tick-tock model's filtered tocks)."""
         out: dict[tuple[int, int], list[tuple[tuple, int]]] = {}
         i = 0
         while i < len(self.states):
+            if more is not None:
+                more(i)
             for c, ch in enumerate(self.channels):
                 self.named[(i, c)] = self.fields(i, ch)
                 out[(i, c)] = [(vs, self.after(i, (*ch.prefix, *vs))) for vs in self.values(i, ch)]

@@ -169,14 +169,15 @@ def where(position: str) -> str:
 def print_trace(r: Result, console: Console) -> None:
     if r.other_trace:
         console.print(Text("  one run:", style="dim"))
-    _print_steps(r.trace, console)
+    _print_steps(r.trace, console, {t["step"]: t for t in r.extra.get("tock_refusals", [])})
     if r.other_trace:
         console.print(Text("  another run, with the same events before the last:", style="dim"))
         _print_steps(r.other_trace, console)
     _print_end(r, console)
 
 
-def _print_steps(trace: tuple, console: Console) -> None:
+def _print_steps(trace: tuple, console: Console, refusals: dict[int, dict] | None = None) -> None:
+    """The steps of a run; `refusals` (tick-tock) are the refusals observed before its tocks, by step."""
     for s in trace:
         line = Text(f"  {s.step:>3}  ")
         if s.kind == "internal":
@@ -192,6 +193,12 @@ def _print_steps(trace: tuple, console: Console) -> None:
             line.append("   " + ", ".join(f"{k} = {v}" for k, v in s.changed.items()), style="yellow")
         if s.source:
             line.append(f"   @ {where(s.source)}", style="dim")
+        seen = (refusals or {}).get(s.step) if s.kind == "tock" else None
+        if seen is not None:
+            line.append(f"   refusing all but {{{', '.join(seen['offered'])}}} before it", style="magenta")
+            if seen.get("refused"):
+                line.append(f"; no stable state of the specification refuses {'; '.join(seen['refused'])}",
+                            style="magenta")
         console.print(line)
 
 
