@@ -32,6 +32,9 @@ EXPECTED_LOAD = {
     "rp-var-visible-uses", "simGeneric-1", "simGeneric-5", "simGeneric-8", "test-core-assertions",
     "test-simple-machine", "test1", "test10", "test11", "test12", "test13", "test14", "test2", "test3", "test4",
     "test5", "test6", "test7", "test8", "test9",
+    # lambda, function types, override and `as` (issue 15, session 8)
+    "FunctionToolkitCallMultiArgTest", "FunctionToolkitCallTest", "LambdaExpLetTest", "LambdaExpLetToolkitTest",
+    "LambdaExpMultiArgTest", "LambdaExpTest", "LambdaExpToolkitTest", "LambdaExpVarTest", "LambdaExpVarToolkitTest",
 }
 
 # Valid cases rejected for a reason that is neither a bug nor on language.md's

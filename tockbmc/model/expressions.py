@@ -23,11 +23,9 @@ Report = Callable[[Pos, str], None]
 
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
-    "lambda_expr": "lambda expressions",
     "definite_description": "definite descriptions ('the')",
     "set_range_expr": "sets ('{a to b}')",
     "vector_expr": "vectors and matrices",
-    "as_expr": "toolkits (type casts 'as')",
     "is_expr": "toolkits (type tests 'is')",
 }
 
@@ -37,6 +35,7 @@ TOOLKIT_FUNCTIONS = {
     "size": 1, "head": 1, "last": 1, "tail": 1, "front": 1, "reverse": 1, "isNonEmpty": 1, "concat": 2,
     "filter": 2, "prefix": 2, "dom": 1, "ran": 1, "elems": 1,
     "union": 2, "inter": 2, "diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
+    "min": 1, "max": 1, "extract": 2, "override": 2,
 }
 
 _ARITHMETIC = {"+", "-", "*", "/", "%"}
@@ -167,6 +166,9 @@ class ExprChecker:
         enum = self.scope.resolve_global(name, "enum_literal")
         if isinstance(enum, ast.EnumType):  # RoboChart also accepts a literal's bare name
             return ast.EnumLiteral(enum, p, enum, name)
+        function = self.scope.resolve_global(name, "function")
+        if isinstance(function, ast.Function) and not function.generic and function.parameters:
+            return function_value(function, p)
         if name in self.scope.events:
             self.error(node, f"'{name}' is an event, not a value")
             return ast.Literal(ERROR, p, 0)
@@ -283,12 +285,12 @@ class ExprChecker:
     def _x_call_expr(self, node: Tree, p: Pos) -> ast.Expr:
         callee = node.children[0]
         args_nodes = node.children[1].children if len(node.children) > 1 else []
-        if not (isinstance(callee, Tree) and callee.data == "name_expr"):
-            value = self.expr(callee)
-            if not isinstance(value.type, ast.ErrorType):
-                self.error(callee, "only named functions can be called")
-            return ast.Literal(ERROR, p, 0)
-        name = qname_text(callee.children[0])
+        name = qname_text(callee.children[0]) if isinstance(callee, Tree) and callee.data == "name_expr" else None
+        var = self.scope.variables.get(name) if name is not None else None
+        if name is None or var is not None and isinstance(var.type, ast.FunctionType):
+            # A value of a function type applied: a variable, a `lambda`, a cast (RoboChart's
+            # `CallExp` whose function is any expression).
+            return self._apply(node, p, self.expr(callee), args_nodes)
         function = self.scope.resolve_global(name, "function")
         if isinstance(function, ast.ErrorType):  # a function that failed to resolve, reported at its declaration
             for a in args_nodes:
@@ -331,6 +333,53 @@ class ExprChecker:
             function = instance
         args = self._check_arguments(node, name, args_nodes, args, function.parameters)
         return ast.Call(function.result, p, function, args)
+
+    def _apply(self, node: Tree, p: Pos, value: ast.Expr, args_nodes: list) -> ast.Expr:
+        """`f(a, …)` for a value `f` of a function type: one argument per part of a product
+        domain (or one tuple of the domain), else one argument of the domain."""
+        args = tuple(self.expr(a) for a in args_nodes)
+        t = value.type
+        if isinstance(t, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)
+        if not isinstance(t, ast.FunctionType):
+            self.error(node.children[0], f"type error: only functions can be called, but this is {t}")
+            return ast.Literal(ERROR, p, 0)
+        wanted = t.arguments if len(args) != 1 else (t.domain,)
+        if len(args) != len(wanted):
+            self.error(node, f"a function of type {t} takes {len(wanted)} argument(s), but {len(args)} given")
+            return ast.Literal(ERROR, p, 0)
+        args = tuple(self.expect(a_node, a, w, "an argument") for a_node, a, w in zip(args_nodes, args, wanted, strict=True))
+        return ast.Apply(t.range, p, value, args)
+
+    def _x_lambda_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        decls, *rest = node.children
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, "lambda", p)
+            condition = self.condition(rest[0]) if len(rest) == 2 else None
+            body = self.expr(rest[-1])
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        if isinstance(body.type, ast.ErrorType) or any(isinstance(v.type, ast.ErrorType) for v in bound):
+            return ast.Literal(ERROR, p, 0)
+        # RoboTool types `lambda x : A, y : B @ e` as `A * B -> T` (`typeFor(LambdaExp)`).
+        domain = bound[0].type if len(bound) == 1 else ast.ProductType(tuple(v.type for v in bound))
+        return ast.Lambda(ast.FunctionType(domain, body.type), p, tuple(bound), condition, body)
+
+    def _x_as_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`e as T`: `e` seen as a value of `T` (RoboTool's `AsExp`, whose type is `T`). Only a
+        cast that changes no value is built: `T` must hold `e`'s values as they are."""
+        value = self.expr(node.children[0])
+        target = self.resolve_type(node.children[1])
+        if isinstance(value.type, ast.ErrorType) or isinstance(target, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)
+        value = conform(value, target)
+        if not ast.assignable(target, value.type):
+            self.error(node, f"unsupported: a cast 'as {target}' of a value of type {value.type} "
+                       f"(only casts to a type that holds the value as it is are built)")
+            return ast.Literal(ERROR, p, 0)
+        return ast.Builtin(target, p, "as", (value,))
 
     def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
         return self._check_arguments(node, name, args_nodes, tuple(self.expr(a) for a in args_nodes), params)
@@ -429,6 +478,7 @@ class ExprChecker:
 
     def _builtin(self, node: Tree, p: Pos, op: str, args: list[ast.Expr]) -> ast.Expr:
         """A built-in operation on sequences and sets, type-checked."""
+        args = [as_set(a) for a in args]
         if any(isinstance(a.type, ast.ErrorType) for a in args):
             return ast.Builtin(ERROR, p, op, tuple(args))
         t = builtin_type(op, [a.type for a in args])
@@ -440,6 +490,9 @@ class ExprChecker:
             args = [conform(a, t if op in ("concat", "union", "inter", "diff") else a.type) for a in args]
             if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "prefix"):
                 args = [conform(a, args[0].type) for a in args]
+        if op == "override":
+            pairs = ast.SetType(ast.ProductType((t.domain, t.range))) if isinstance(t, ast.FunctionType) else t
+            args = [args[0], conform(args[1], pairs)]
         if op in ("in", "notin"):
             element = args[1].type.element  # type: ignore[attr-defined]
             args = [conform(args[0], element), args[1]]
@@ -715,6 +768,22 @@ class ExprChecker:
         return ast.OperationCall(p, op, args)
 
 
+def as_set(e: ast.Expr) -> ast.Expr:
+    """An interval `[a, b]` given where a set is expected (`union([331, 359], [0, 30])`): the set
+    of the integers it holds (RoboChart's `RangeExp`, which `wait` reads as an interval)."""
+    if not isinstance(e, ast.Interval) or e.type not in (NAT, ast.INT):
+        return e
+    return ast.Builtin(ast.SetType(e.type), e.pos, "interval",
+                       (e.low, e.high, ast.Literal(BOOLEAN, e.pos, e.low_closed), ast.Literal(BOOLEAN, e.pos, e.high_closed)))
+
+
+def function_value(f: ast.Function, p: Pos) -> ast.Lambda:
+    """A declared function named as a value (`override(add, …)`): `lambda x : T, … @ f(x, …)`."""
+    domain = f.parameters[0].type if len(f.parameters) == 1 else ast.ProductType(tuple(q.type for q in f.parameters))
+    args = tuple(ast.VarRef(q.type, p, q) for q in f.parameters)
+    return ast.Lambda(ast.FunctionType(domain, f.result), p, f.parameters, None, ast.Call(f.result, p, f, args))
+
+
 def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:
     """`e` retyped for a place of type `t` where it is a literal whose items fit: `<1, 2>` in a
     `Seq(real)` place is a sequence of reals, `<>` in a `Seq(nat)` place a sequence of naturals."""
@@ -764,6 +833,20 @@ def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
     if op in ("in", "notin"):
         if isinstance(b, ast.SetType) and ast.comparable(b.element, a):
             return BOOLEAN
+        return None
+    if op in ("min", "max"):  # sequence_toolkit's, on a set of numbers: its least (greatest) member
+        return a.element if isinstance(a, ast.SetType) and a.element in ast.NUMERIC else None
+    if op == "extract":  # the items of `b` at the indices in `a`, in order (Z's extraction)
+        if isinstance(a, ast.SetType) and a.element in (NAT, ast.INT) and isinstance(b, ast.SeqType):
+            return b
+        return None
+    if op == "override":  # relation_toolkit's `r ⊕ s`: `s`'s pairs, and `r`'s outside dom(s)
+        if isinstance(a, ast.FunctionType) and isinstance(b, ast.SetType) and \
+                ast.assignable(ast.SetType(ast.ProductType((a.domain, a.range))), b):
+            return a
+        if isinstance(a, ast.SetType) and isinstance(b, ast.SetType) and isinstance(a.element, ast.ProductType) \
+                and len(a.element.parts) == 2 and ast.assignable(a, b):
+            return a
         return None
     return None
 

@@ -28,8 +28,6 @@ BUILTIN_TYPES = {"int": INT, "nat": NAT, "real": REAL, "boolean": BOOLEAN, "stri
 UNSUPPORTED_TYPES = {
     "vector_type": "vectors and matrices",
     "matrix_type": "vectors and matrices",
-    "function_type": "function types (lambda)",
-    "relation_type": "relation types (toolkits)",
     "any_type": "generic types ('?T')",
 }
 
@@ -152,6 +150,15 @@ class Resolver:
             if isinstance(element, ast.ErrorType):
                 return ERROR
             return ast.SeqType(element) if node.data == "seq_type" else ast.SetType(element)
+        if node.data in ("function_type", "relation_type"):
+            domain, range_ = (self.type_of(scope, c, bindings) for c in node.children)
+            if isinstance(domain, ast.ErrorType) or isinstance(range_, ast.ErrorType):
+                return ERROR
+            if node.data == "function_type":
+                return ast.FunctionType(domain, range_)
+            # `X <-> Y` is Z's relation type, the sets of pairs P(X × Y), as in RoboChart's toolkits
+            # (relation_toolkit's `dom(r : ?X <-> ?Y)` reads `p in r` for `p : ?X*?Y`).
+            return ast.SetType(ast.ProductType((domain, range_)))
         if node.data == "product_type":
             parts = [self.type_of(scope, c, bindings) for c in node.children]
             if any(isinstance(p, ast.ErrorType) for p in parts):
