@@ -70,10 +70,6 @@ UNDECIDED = {
 
 # Cases that load but are not checked here: their assertions take longer than this suite can spend.
 NOT_CHECKED = {
-    "LambdaExpVarTest": "a variable of function type assigned a lambda: Z3 answers unknown ('incomplete "
-                        "quantifiers', the lambda in the incremental solver) or times out, about 100 s for the two "
-                        "assertions (benchmarks/conformance.py checks it)",
-    "LambdaExpVarToolkitTest": "as LambdaExpVarTest",
     "AutonomousChemicalDetector": "loads since quantifiers and generic functions (issue 15); 11 of its 20 "
                                   "assertions hold in seconds, 7 reach the 60 s timeout (a6, a11-a16: "
                                   "the module's runs with the quantified axioms of its functions), a7 and a9 "

@@ -35,6 +35,7 @@ EXPECTED_LOAD = {
     # lambda, function types, override and `as` (issue 15, session 8)
     "FunctionToolkitCallMultiArgTest", "FunctionToolkitCallTest", "LambdaExpLetTest", "LambdaExpLetToolkitTest",
     "LambdaExpMultiArgTest", "LambdaExpTest", "LambdaExpToolkitTest", "LambdaExpVarTest", "LambdaExpVarToolkitTest",
+    "SequenceAndProductTest",  # s[i] = e
 }
 
 # Valid cases rejected for a reason that is neither a bug nor on language.md's

@@ -541,6 +541,14 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         return z3.SeqFoldLeftI(z3.Lambda([i, acc, x], keep), z3.IntVal(1), z3.Empty(s.sort()), s)
     if op == "override":
         return _override(e, a, xs[1])
+    if op == "update":
+        # `s[i] = v` within 1..#s replaces the i-th item; outside it the result is any sequence
+        # (as an index outside 1..#s has any value), one uninterpreted function of (s, i, v).
+        i, item = xs[1], xs[2]
+        n = z3.Length(a)
+        replaced = z3.Concat(z3.SubSeq(a, 0, i - 1), z3.Unit(item), z3.SubSeq(a, i, n - i))
+        outside = z3.Function("update.outside", a.sort(), z3.IntSort(), item.sort(), a.sort())
+        return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
     if op == "size":
         if isinstance(st, ast.SetType):
             raise Unsupported(e.pos, "the size of a set (Z3's sets have no cardinality)")

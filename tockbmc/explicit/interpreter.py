@@ -1479,6 +1479,11 @@ class Interpreter:
             return a[0] if op == "head" else a[-1]
         if op == "as":
             return _coerce(e.type, a)
+        if op == "update":
+            i, item = args[1], args[2]
+            if not 1 <= i <= len(a):  # outside 1..#s the result is any sequence (BMC: uninterpreted)
+                raise NotInterpretable(e.pos, f"item {i} assigned in a sequence of length {len(a)}")
+            return a[:i - 1] + (item,) + a[i:]
         if op in ("min", "max"):
             if not a:  # outside the precondition hasMin(a): any value
                 raise NotInterpretable(e.pos, f"{op} of an empty set")

@@ -367,6 +367,28 @@ class ExprChecker:
         domain = bound[0].type if len(bound) == 1 else ast.ProductType(tuple(v.type for v in bound))
         return ast.Lambda(ast.FunctionType(domain, body.type), p, tuple(bound), condition, body)
 
+    def _x_set_comprehension(self, node: Tree, p: Pos) -> ast.Expr:
+        """`{x : T, … | p @ e}` (RoboChart's `SetComp`): without `@ e`, the set of the bound
+        variable's values (of the tuples of them, for several) that satisfy `p`."""
+        decls, *rest = node.children
+        condition_node = next((c.children[0] for c in rest if c.data == "such_that"), None)
+        term_node = next((c.children[0] for c in rest if c.data == "comprehension_term"), None)
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, "set", p)
+            condition = self.condition(condition_node) if condition_node is not None else None
+            term = self.expr(term_node) if term_node is not None else None
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        if term is None and len(bound) > 1:
+            refs = tuple(ast.VarRef(v.type, p, v) for v in bound)
+            term = ast.TupleLiteral(ast.ProductType(tuple(v.type for v in bound)), p, refs)
+        element = term.type if term is not None else bound[0].type
+        if isinstance(element, ast.ErrorType) or any(isinstance(v.type, ast.ErrorType) for v in bound):
+            return ast.Literal(ERROR, p, 0)
+        return ast.SetComprehension(ast.SetType(element), p, tuple(bound), condition, term)
+
     def _x_as_expr(self, node: Tree, p: Pos) -> ast.Expr:
         """`e as T`: `e` seen as a value of `T` (RoboTool's `AsExp`, whose type is `T`). Only a
         cast that changes no value is built: `T` must hold `e`'s values as they are."""
@@ -744,7 +766,47 @@ class ExprChecker:
         return ast.Assign(p, var, tuple(fields), value)
 
     def _s_array_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
-        self.error(node, "unsupported: vectors, matrices and sequences (indexing)")
+        """`s[i] = e` on a sequence (or `p[k] = e` on a tuple, `k` a literal): the assignment of
+        `s` with its `i`-th item replaced (RoboChart's `ArrayAssignable`; Z's `s ⊕ {i ↦ e}`)."""
+        designator, indices_node, value_node = node.children
+        parts = designator.children
+        name = qname_text(parts[0])
+        var = self.scope.variables.get(name)
+        value = self.expr(value_node)
+        indices = [self.expr(i) for i in indices_node.children]
+        if var is None:
+            self._unknown(parts[0], "variable", name, list(self.scope.variables))
+            return ast.Skip(p)
+        if var.constant:
+            self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
+        target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
+        fields = []
+        for part in parts[1:]:
+            target = self._select_known(target, qname_text(part), part)
+            fields.append(qname_text(part))
+        t = target.type
+        if isinstance(t, ast.ErrorType) or any(isinstance(i.type, ast.ErrorType) for i in indices):
+            return ast.Skip(p)
+        if len(indices) != 1:
+            self.error(indices_node, "unsupported: indexing with more than one index (matrices)")
+            return ast.Skip(p)
+        [index] = indices
+        if isinstance(t, ast.SeqType):
+            if index.type not in (NAT, ast.INT):
+                self.error(indices_node, f"type error: a sequence's index must be an integer, but this is {index.type}")
+            item = self.expect(value_node, value, t.element, "the item assigned")
+            return ast.Assign(p, var, tuple(fields), ast.Builtin(t, p, "update", (target, index, item)))
+        if isinstance(t, ast.ProductType):
+            if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
+                self.error(indices_node, f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
+                return ast.Skip(p)
+            k = index.value
+            assert isinstance(k, int)
+            item = self.expect(value_node, value, t.parts[k - 1], f"part {k}")
+            items = tuple(item if j == k else ast.Index(pt, p, target, ast.Literal(NAT, p, j))
+                          for j, pt in enumerate(t.parts, 1))
+            return ast.Assign(p, var, tuple(fields), ast.TupleLiteral(t, p, items))
+        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
         return ast.Skip(p)
 
     def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
