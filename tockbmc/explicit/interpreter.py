@@ -1400,10 +1400,12 @@ class Interpreter:
             key = (var.owner, var.name)
             if key in own or key in bind:
                 continue
-            if ctx.bind is not None and key in ctx.bind:
-                bind[key] = ctx.bind[key]
-            elif var.kind not in ("bound", "let"):  # else bound inside the body, by a let or quantifier
-                bind[key] = self._get(ctx, var)
+            if ctx.bind is not None and key in ctx.bind or var.kind not in ("bound", "let"):
+                value = self._get(ctx, var)
+                # Lazy mode: a value not chosen yet is chosen now (its configuration split), as a
+                # closure hides it from the search for Unknowns in configurations.
+                bind[key] = self._known(ctx, value) if self.lazy else value
+            # else bound inside the body, by a let or a quantifier
         return Closure(e, tuple(sorted(bind.items(), key=lambda kv: kv[0])))
 
     def _apply(self, ctx: _Ctx, e: ast.Expr, f: object, args: list) -> object:
