@@ -8,6 +8,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from conftest import SHARED
 
 from tockbmc import ModelError, Project, load
 from tockbmc.check import check
@@ -146,3 +147,26 @@ stm M {
     assert r.verdict == Verdict.HOLDS
     [x] = check_explicit(project, ["R1"], 6, NAT03, {}, None)
     assert x.verdict == Verdict.UNSUPPORTED and "item 4 assigned in a sequence of length 2" in (x.reason or "")
+
+
+REALWORLD = SHARED / "realworld"
+
+# Public projects that load since function types, lambda, set comprehensions and `s[i] = e`
+# (folder, what it uses); PROJECTS.txt excludes the generated `rc2rs/` and `normalForm/` copies.
+NEWLY_LOADING = {
+    "UoY-RoboStar+rc2rs-examples/Harvester": ("rc2rs/", "variables, events and functions of type Coord3D -> …"),
+    "UoY-RoboStar+robochart-normalisation-tests/HarvesterProject": ("normalForm/", "the same Harvester"),
+    "UoY-RoboStar+laptop-refurbishing-case-study/Concept/RoboChart": (None, "comprehensions, nat -> real * real, s[i] = e"),
+}
+
+
+@pytest.mark.parametrize("folder", sorted(NEWLY_LOADING))
+def test_public_projects_with_functions_and_comprehensions_load(folder: str) -> None:
+    base = REALWORLD / folder
+    if not base.is_dir():
+        pytest.skip("the public projects are not here")
+    excluded = NEWLY_LOADING[folder][0]
+    files = [f for f in sorted(base.rglob("*")) if f.suffix in (".rct", ".assertions") and f.is_file()
+             and not (excluded and f.relative_to(base).as_posix().startswith(excluded))]
+    project = load(*files)
+    assert project.machines
