@@ -36,6 +36,7 @@ EXPECTED_LOAD = {
     "FunctionToolkitCallMultiArgTest", "FunctionToolkitCallTest", "LambdaExpLetTest", "LambdaExpLetToolkitTest",
     "LambdaExpMultiArgTest", "LambdaExpTest", "LambdaExpToolkitTest", "LambdaExpVarTest", "LambdaExpVarToolkitTest",
     "SequenceAndProductTest",  # s[i] = e
+    "test-vector-matrix",  # vectors and matrices as tuples
 }
 
 # Valid cases rejected for a reason that is neither a bug nor on language.md's

@@ -170,3 +170,39 @@ def test_public_projects_with_functions_and_comprehensions_load(folder: str) -> 
              and not (excluded and f.relative_to(base).as_posix().startswith(excluded))]
     project = load(*files)
     assert project.machines
+
+
+VECTORS = """\
+stm V {
+  const R : matrix(int, 2, 2) = [|0, -1; 1, 0|]
+  var v : vector(int, 2) = [|1, 2|]
+  var n : int = 0
+  initial i
+  state S0 { }
+  state Good { }
+  state Bad { }
+  transition t0 { from i to S0 action v = R * v + [|1, 1|] ; n = v * v ; v[1] = -v[1] }
+  transition t1 { from S0 to Good condition v == [|1, 2|] /\\ n == 5 /\\ R[2, 1] == 1 /\\ (R * R)[1, 1] == -1
+    /\\ 2 * [|1, 2|] - [|0, 1|] == [|2, 3|] }
+  transition t2 { from S0 to Bad condition not (v == [|1, 2|]) }
+}
+"""
+
+
+def test_vectors_and_matrices_are_tuples_with_their_arithmetic(tmp_path: Path) -> None:
+    # R * v = (0*1 - 1*2, 1*1 + 0*2) = (-2, 1); plus (1, 1): (-1, 2); n = v * v = 1 + 4 = 5; then
+    # v[1] = 1, so v = (1, 2). R * R = -I, whose item (1, 1) is -1. Good is reachable, Bad is not.
+    project = _project(tmp_path, VECTORS, REACH.replace("in M", "in V"))
+    assert _both(project, ["R1", "R2"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED}
+
+
+@pytest.mark.parametrize(("expression", "message"), [
+    ("[|1, 2|] + [|1, 2, 3|]", "'+' needs two vectors or matrices of one shape"),
+    ("[|1, 2; 3, 4|] * [|1, 2, 3|]", "'*' cannot multiply"),
+    ("[|1, 2; 3|]", "the rows of a matrix have different lengths"),
+])
+def test_vector_errors(tmp_path: Path, expression: str, message: str) -> None:
+    model = f"stm S {{\n  var n : int = 0\n  initial i\n  state s {{ }}\n  transition t0 {{ from i to s action n = ({expression})[1] }}\n}}\n"
+    with pytest.raises(ModelError) as info:
+        _project(tmp_path, model)
+    assert message in str(info.value)

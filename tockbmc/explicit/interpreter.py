@@ -484,6 +484,9 @@ def _coerce(t: ast.Type | None, v: object) -> object:
         return frozenset(_coerce(t.element, x) for x in v)
     if isinstance(t, ast.ProductType) and isinstance(v, tuple):
         return Product(_coerce(pt, x) for pt, x in zip(t.parts, v, strict=True))
+    if isinstance(t, ast.ProductType) and isinstance(v, dict) and set(v) == {str(i) for i in range(1, len(t.parts) + 1)}:
+        # a tuple given by its parts "1", "2", … (a constant's value as the configuration reads it)
+        return Product(_coerce(pt, v[str(i)]) for i, pt in enumerate(t.parts, 1))
     return v
 
 

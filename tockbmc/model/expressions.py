@@ -25,7 +25,6 @@ Report = Callable[[Pos, str], None]
 UNSUPPORTED_EXPRESSIONS = {
     "definite_description": "definite descriptions ('the')",
     "set_range_expr": "sets ('{a to b}')",
-    "vector_expr": "vectors and matrices",
     "is_expr": "toolkits (type tests 'is')",
 }
 
@@ -230,6 +229,8 @@ class ExprChecker:
 
     def _x_neg(self, node: Tree, p: Pos) -> ast.Expr:
         operand = self.expr(node.children[0])
+        if _dims(operand.type):
+            return _elementwise(p, operand.type, lambda k: _neg(p, _part(p, operand, k)))
         if not ast.is_numeric(operand.type):
             self.error(node, f"type error: '-' needs a number, but this is {operand.type}")
             return ast.Unary(ERROR, p, "-", operand)
@@ -259,6 +260,8 @@ class ExprChecker:
                     self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
             return ast.Binary(BOOLEAN, p, op, left, right)
         assert op in _ARITHMETIC
+        if op in ("+", "-", "*") and (_dims(left.type) or _dims(right.type)):
+            return self._linear(node, p, op, left, right)
         for side, e in ((left_node, left), (right_node, right)):
             if not ast.is_numeric(e.type):
                 self.error(side, f"type error: '{op}' needs numbers, but this is {e.type}")
@@ -269,6 +272,41 @@ class ExprChecker:
         if op == "/" and rtype != REAL and not isinstance(rtype, ast.ErrorType):
             rtype = INT if rtype == NAT else rtype  # integer division on integers
         return ast.Binary(rtype, p, op, left, right)
+
+    def _linear(self, node: Tree, p: Pos, op: str, left: ast.Expr, right: ast.Expr) -> ast.Expr:
+        """Vector and matrix arithmetic, written out item by item over the tuples they are:
+        `v + w` and `v - w` of one shape, a number times a vector or matrix, `v * w` the dot
+        product, `m * v` and `m * n` the matrix products (RoboChart's `Plus`, `Minus`, `Mult` on
+        `VectorType` and `MatrixType`)."""
+        a, b = _dims(left.type), _dims(right.type)
+        if a is None or b is None:
+            self.error(node, f"type error: '{op}' cannot take {left.type} and {right.type}")
+            return ast.Literal(ERROR, p, 0)
+        if op in ("+", "-"):
+            if a != b:
+                self.error(node, f"type error: '{op}' needs two vectors or matrices of one shape, but these are "
+                                 f"{left.type} and {right.type}")
+                return ast.Literal(ERROR, p, 0)
+            return _pointwise(p, op, left, right)
+        if not a or not b:  # a number times a vector or matrix
+            scalar, shaped = (left, right) if not a else (right, left)
+            return _scaled(p, scalar, shaped)
+        if len(a) == 1 and a == b:
+            return _dot(p, [_part(p, left, k) for k in range(1, a[0] + 1)], [_part(p, right, k) for k in range(1, a[0] + 1)])
+        if len(a) == 2 and a[1] == b[0]:
+            rows = [_part(p, left, i) for i in range(1, a[0] + 1)]
+            if len(b) == 1:
+                items = [_dot(p, [_part(p, r, k) for k in range(1, a[1] + 1)], [_part(p, right, k) for k in range(1, a[1] + 1)])
+                         for r in rows]
+            else:
+                items = []
+                for r in rows:
+                    entries = [_dot(p, [_part(p, r, k) for k in range(1, a[1] + 1)],
+                                    [_part(p, _part(p, right, k), j) for k in range(1, a[1] + 1)]) for j in range(1, b[1] + 1)]
+                    items.append(ast.TupleLiteral(_tuple_type(entries), p, tuple(entries)))
+            return ast.TupleLiteral(_tuple_type(items), p, tuple(items))
+        self.error(node, f"type error: '*' cannot multiply {left.type} by {right.type} (their sizes do not match)")
+        return ast.Literal(ERROR, p, 0)
 
     def _x_if_expr(self, node: Tree, p: Pos) -> ast.Expr:
         c, a, b = (self.expr(n) for n in node.children)
@@ -461,12 +499,31 @@ class ExprChecker:
             return ast.TupleLiteral(ERROR, p, tuple(items))
         return ast.TupleLiteral(ast.ProductType(tuple(x.type for x in items)), p, tuple(items))
 
-    def _x_index_expr(self, node: Tree, p: Pos) -> ast.Expr:
-        value = self.expr(node.children[0])
-        indices = node.children[1].children
-        if len(indices) != 1:
-            self.error(node, "unsupported: indexing with more than one index (matrices)")
+    def _x_vector_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`[|a, b|]` a vector, `[|a, b; c, d|]` a matrix of rows: tuples (`Resolver._vector_type`)."""
+        rows = []
+        for row_node in node.children:
+            items = [self.expr(c) for c in row_node.children]
+            if any(isinstance(x.type, ast.ErrorType) for x in items):
+                return ast.Literal(ERROR, p, 0)
+            t = self._element_type(row_node, items, "a vector")
+            if isinstance(t, ast.ErrorType):
+                return ast.Literal(ERROR, p, 0)
+            rows.append(ast.TupleLiteral(ast.ProductType((t,) * len(items)), p, tuple(conform(x, t) for x in items)))
+        if len(rows) == 1:
+            return rows[0]
+        if len({len(r.items) for r in rows}) != 1:
+            self.error(node, "type error: the rows of a matrix have different lengths")
             return ast.Literal(ERROR, p, 0)
+        return ast.TupleLiteral(ast.ProductType(tuple(r.type for r in rows)), p, tuple(rows))
+
+    def _x_index_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        indices = node.children[1].children
+        if len(indices) > 1:  # `m[i, j]` of a matrix: row i's item j
+            inner = Tree("index_expr", [node.children[0], Tree("exprs", indices[:-1], meta=node.children[1].meta)], meta=node.meta)
+            outer = Tree("index_expr", [inner, Tree("exprs", indices[-1:], meta=node.children[1].meta)], meta=node.meta)
+            return self._x_index_expr(outer, p)
+        value = self.expr(node.children[0])
         index = self.expr(indices[0])
         t = value.type
         if isinstance(t, ast.ErrorType) or isinstance(index.type, ast.ErrorType):
@@ -828,6 +885,66 @@ class ExprChecker:
             return ast.Skip(p)
         args = self._arguments(node, name, args_nodes, op.parameters)
         return ast.OperationCall(p, op, args)
+
+
+def _dims(t: ast.Type) -> tuple[int, ...] | None:
+    """The shape of a vector `(n,)` or matrix `(m, n)` of numbers (tuples of one numeric type),
+    `()` for a number, None for anything else."""
+    if t in ast.NUMERIC:
+        return ()
+    if isinstance(t, ast.ProductType) and len(set(t.parts)) == 1:
+        inner = _dims(t.parts[0])
+        if inner is not None and len(inner) < 2:
+            return (len(t.parts), *inner)
+    return None
+
+
+def _part(p: Pos, e: ast.Expr, k: int) -> ast.Expr:
+    """Part `k` of a tuple-typed expression (a literal's item itself)."""
+    if isinstance(e, ast.TupleLiteral):
+        return e.items[k - 1]
+    assert isinstance(e.type, ast.ProductType)
+    return ast.Index(e.type.parts[k - 1], p, e, ast.Literal(NAT, p, k))
+
+
+def _tuple_type(items: list[ast.Expr]) -> ast.ProductType:
+    return ast.ProductType(tuple(x.type for x in items))
+
+
+def _elementwise(p: Pos, t: ast.Type, item: Callable[[int], ast.Expr]) -> ast.Expr:
+    assert isinstance(t, ast.ProductType)
+    items = [item(k) for k in range(1, len(t.parts) + 1)]
+    return ast.TupleLiteral(_tuple_type(items), p, tuple(items))
+
+
+def _arith(p: Pos, op: str, a: ast.Expr, b: ast.Expr) -> ast.Expr:
+    t = ast.numeric_join(a.type, b.type)
+    return ast.Binary(ast.INT if op == "-" and t == NAT else t, p, op, a, b)
+
+
+def _neg(p: Pos, e: ast.Expr) -> ast.Expr:
+    if _dims(e.type):
+        return _elementwise(p, e.type, lambda k: _neg(p, _part(p, e, k)))
+    return ast.Unary(ast.INT if e.type == NAT else e.type, p, "-", e)
+
+
+def _pointwise(p: Pos, op: str, a: ast.Expr, b: ast.Expr) -> ast.Expr:
+    if not _dims(a.type):
+        return _arith(p, op, a, b)
+    return _elementwise(p, a.type, lambda k: _pointwise(p, op, _part(p, a, k), _part(p, b, k)))
+
+
+def _scaled(p: Pos, scalar: ast.Expr, shaped: ast.Expr) -> ast.Expr:
+    if not _dims(shaped.type):
+        return _arith(p, "*", scalar, shaped)
+    return _elementwise(p, shaped.type, lambda k: _scaled(p, scalar, _part(p, shaped, k)))
+
+
+def _dot(p: Pos, xs: list[ast.Expr], ys: list[ast.Expr]) -> ast.Expr:
+    total = _arith(p, "*", xs[0], ys[0])
+    for x, y in zip(xs[1:], ys[1:], strict=True):
+        total = _arith(p, "+", total, _arith(p, "*", x, y))
+    return total
 
 
 def as_set(e: ast.Expr) -> ast.Expr:
