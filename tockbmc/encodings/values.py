@@ -420,14 +420,8 @@ class Evaluator:
         domain within the ranges in force (as a value the environment supplies). The side
         constraints the body adds (axioms of uninterpreted functions at the bound points) hold for
         every value of the bound variables, so they are quantified too."""
-        values: dict[int, Value] = {}
-        consts: list[z3.ExprRef] = []
-        dom: list[z3.BoolRef] = []
-        for v in e.variables:
-            x = z3.Const(f"{v.name}!{e.pos.line}:{e.pos.column}", sort_of(v.type))
-            consts.append(x)
-            values[id(v)] = unpack(x, v.type)
-            dom += domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")
+        consts, values = self._bound(e.variables, e.pos)
+        dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
         side: list[z3.BoolRef] = []
         inner = self._inner({**self.env, **values}, side=side)
         cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
@@ -617,9 +611,9 @@ def _extremum(e: ast.Builtin, a: z3.ExprRef) -> tuple[z3.ExprRef, z3.BoolRef]:
 def _override(e: ast.Builtin, r: z3.ExprRef, s: z3.ExprRef) -> z3.ExprRef:
     """relation_toolkit's `override(r, s)`, `(dom(s) ⩤ r) ∪ s`: for a function `r` and a set of
     pairs `s`, the function that at `x` is `s`'s `y` where `s` has a pair `(x, y)` and `r(x)`
-    elsewhere. A literal `s` is a chain of `If`s (its last pair for `x` first, as a set has no
-    order when `s` pairs `x` twice the result is not a function: RoboTool's cast then fails);
-    any other `s` is not encoded yet."""
+    elsewhere. A literal `s` is a chain of `If`s; where it pairs one `x` twice the result is not
+    a function, and the pair written last is taken (the explicit engine refuses to choose). Any
+    other `s` is not encoded yet."""
     rt = e.args[0].type
     if not isinstance(rt, ast.FunctionType):
         raise Unsupported(e.pos, "override of a relation that is not a function is not encoded yet")

@@ -1505,6 +1505,8 @@ class Interpreter:
             if isinstance(a, AnyFunction):
                 raise NotInterpretable(e.pos, f"a function of type {a.type} that has no value is overridden")
             if isinstance(a, Closure):
+                if len({p[0] for p in b}) < len(b):  # not a function there: BMC takes the pair written last
+                    raise NotInterpretable(e.pos, "override by a set that pairs one point with two values")
                 pairs = tuple((p[0], p[1]) for p in sorted(b, key=repr))
                 return Closure(a.fn, a.bind, a.overrides + pairs)
             keys = {p[0] for p in b}

@@ -800,14 +800,15 @@ class ExprChecker:
                        f"'{event.name}!v'")
         return ast.Send(p, event, value)
 
-    def _s_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
-        parts = node.children[0].children
+    def _assignable(self, designator: Tree) -> tuple[ast.Variable, tuple[str, ...], ast.Expr] | None:
+        """The variable `x.f.g` assigns, the field path, and the target's value as an expression
+        (None, reported, when `x` is unknown)."""
+        parts = designator.children
         name = qname_text(parts[0])
-        value = self.expr(node.children[1])
         var = self.scope.variables.get(name)
         if var is None:
             self._unknown(parts[0], "variable", name, list(self.scope.variables))
-            return ast.Skip(p)
+            return None
         if var.constant:
             self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
         target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
@@ -816,31 +817,31 @@ class ExprChecker:
             fname = qname_text(part)
             target = self._select_known(target, fname, part)
             fields.append(fname)
+        return var, tuple(fields), target
+
+    def _s_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        value = self.expr(node.children[1])
+        found = self._assignable(node.children[0])
+        if found is None:
+            return ast.Skip(p)
+        var, fields, target = found
+        name = var.name
         value = conform(value, target.type)
         if not ast.assignable(target.type, value.type):
             self.error(node.children[1], f"type error: cannot assign {value.type} to "
                        f"'{'.'.join([name, *fields])}' of type {target.type}")
-        return ast.Assign(p, var, tuple(fields), value)
+        return ast.Assign(p, var, fields, value)
 
     def _s_array_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         """`s[i] = e` on a sequence (or `p[k] = e` on a tuple, `k` a literal): the assignment of
         `s` with its `i`-th item replaced (RoboChart's `ArrayAssignable`; Z's `s ⊕ {i ↦ e}`)."""
         designator, indices_node, value_node = node.children
-        parts = designator.children
-        name = qname_text(parts[0])
-        var = self.scope.variables.get(name)
         value = self.expr(value_node)
         indices = [self.expr(i) for i in indices_node.children]
-        if var is None:
-            self._unknown(parts[0], "variable", name, list(self.scope.variables))
+        found = self._assignable(designator)
+        if found is None:
             return ast.Skip(p)
-        if var.constant:
-            self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
-        target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
-        fields = []
-        for part in parts[1:]:
-            target = self._select_known(target, qname_text(part), part)
-            fields.append(qname_text(part))
+        var, fields, target = found
         t = target.type
         if isinstance(t, ast.ErrorType) or any(isinstance(i.type, ast.ErrorType) for i in indices):
             return ast.Skip(p)
@@ -852,7 +853,7 @@ class ExprChecker:
             if index.type not in (NAT, ast.INT):
                 self.error(indices_node, f"type error: a sequence's index must be an integer, but this is {index.type}")
             item = self.expect(value_node, value, t.element, "the item assigned")
-            return ast.Assign(p, var, tuple(fields), ast.Builtin(t, p, "update", (target, index, item)))
+            return ast.Assign(p, var, fields, ast.Builtin(t, p, "update", (target, index, item)))
         if isinstance(t, ast.ProductType):
             if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
                 self.error(indices_node, f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
@@ -862,7 +863,7 @@ class ExprChecker:
             item = self.expect(value_node, value, t.parts[k - 1], f"part {k}")
             items = tuple(item if j == k else ast.Index(pt, p, target, ast.Literal(NAT, p, j))
                           for j, pt in enumerate(t.parts, 1))
-            return ast.Assign(p, var, tuple(fields), ast.TupleLiteral(t, p, items))
+            return ast.Assign(p, var, fields, ast.TupleLiteral(t, p, items))
         self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
         return ast.Skip(p)
 
