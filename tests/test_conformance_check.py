@@ -38,17 +38,6 @@ DIFFERENCES = {
                     "instantiation'), so both machines output VD and ctrl0 does e1.out.VD first"),
     ("test12", "A2"): (
         "violated", "as A1: CC of stm_ref0 set to VA and of stm_ref1 to VB, one value per declaration"),
-    ("FunctionToolkitCallTest", "FunctionToolkitCallTest1"): (
-        "violated", "addOne has no body in the model, and its instantiation body Plus(n,1,core_nat) passes the set "
-                    "core_nat, which tockbmc's reader of instantiations does not take (a warning says so): addOne "
-                    "stays uninterpreted, any natural, so the second output may be 0 where the spec expects 1"),
-    ("FunctionToolkitCallTest", "FunctionToolkitCallTest2"): (
-        "violated", "as FunctionToolkitCallTest1, timed"),
-    ("FunctionToolkitCallMultiArgTest", "FunctionToolkitCallMultiArgTest1"): (
-        "violated", "as FunctionToolkitCallTest1: add's instantiation body Plus(x,y,core_nat) is not read, so "
-                    "add(0, 1) is any natural"),
-    ("FunctionToolkitCallMultiArgTest", "FunctionToolkitCallMultiArgTest2"): (
-        "violated", "as FunctionToolkitCallMultiArgTest1, timed"),
     ("clocks5", "A0"): (
         "violated", "Spec waits 4 tocks between opACall and term.out; tockbmc's stm0 waits 2, so its trace "
                     "<opACall, tock, tock, term.out> is not one of Spec's: "
