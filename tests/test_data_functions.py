@@ -206,3 +206,21 @@ def test_vector_errors(tmp_path: Path, expression: str, message: str) -> None:
     with pytest.raises(ModelError) as info:
         _project(tmp_path, model)
     assert message in str(info.value)
+
+
+def test_a_set_range_is_the_integers_between_its_bounds(tmp_path: Path) -> None:
+    # {1 to 3} = {1, 2, 3}: Good's condition holds at once; Bad's never.
+    model = """\
+stm M {
+  var n : nat = 3
+  initial i
+  state S0 { }
+  state Good { }
+  state Bad { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to Good condition 2 in {1 to n} /\\ not (4 in {1 to n}) }
+  transition t2 { from S0 to Bad condition 0 in {1 to n} }
+}
+"""
+    project = _project(tmp_path, model, REACH)
+    assert _both(project, ["R1", "R2"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED}

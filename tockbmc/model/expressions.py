@@ -24,7 +24,6 @@ Report = Callable[[Pos, str], None]
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
     "definite_description": "definite descriptions ('the')",
-    "set_range_expr": "sets ('{a to b}')",
     "is_expr": "toolkits (type tests 'is')",
 }
 
@@ -498,6 +497,19 @@ class ExprChecker:
         if any(isinstance(x.type, ast.ErrorType) for x in items):
             return ast.TupleLiteral(ERROR, p, tuple(items))
         return ast.TupleLiteral(ast.ProductType(tuple(x.type for x in items)), p, tuple(items))
+
+    def _x_set_range_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`{a to b}` (RoboChart's `SetRange`): the integers from `a` to `b`."""
+        low, high = self.expr(node.children[0]), self.expr(node.children[1])
+        for side, e in zip(node.children, (low, high), strict=True):
+            if e.type not in (NAT, ast.INT) and not isinstance(e.type, ast.ErrorType):
+                self.error(side, f"type error: the bounds of '{{a to b}}' must be integers, but this is {e.type}")
+                return ast.Literal(ERROR, p, 0)
+        t = ast.numeric_join(low.type, high.type)
+        if isinstance(t, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)
+        yes = ast.Literal(BOOLEAN, p, True)
+        return ast.Builtin(ast.SetType(t), p, "interval", (low, high, yes, yes))
 
     def _x_vector_expr(self, node: Tree, p: Pos) -> ast.Expr:
         """`[|a, b|]` a vector, `[|a, b; c, d|]` a matrix of rows: tuples (`Resolver._vector_type`)."""
