@@ -278,6 +278,8 @@ class ExprChecker:
         product, `m * v` and `m * n` the matrix products (RoboChart's `Plus`, `Minus`, `Mult` on
         `VectorType` and `MatrixType`)."""
         a, b = _dims(left.type), _dims(right.type)
+        if isinstance(left.type, ast.ErrorType) or isinstance(right.type, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)  # reported where it arose
         if a is None or b is None:
             self.error(node, f"type error: '{op}' cannot take {left.type} and {right.type}")
             return ast.Literal(ERROR, p, 0)
