@@ -174,6 +174,14 @@ class ExprChecker:
         self._unknown(node, "name", name, known)
         return ast.Literal(ERROR, p, 0)
 
+    def _is_literal(self, name: str) -> bool:
+        """Whether `name` (`L` or `E::L`) names an enumeration literal."""
+        if "::" not in name:
+            return isinstance(self.scope.resolve_global(name, "enum_literal"), ast.EnumType)
+        type_name, _, literal = name.rpartition("::")
+        enum = self.scope.resolve_global(type_name, "type")
+        return isinstance(enum, ast.EnumType) and literal in enum.literals
+
     def enum_literal(self, name: str, p: Pos) -> ast.Expr | None:
         if "::" not in name:
             return None
@@ -346,6 +354,8 @@ class ExprChecker:
             elif self.scope.toolkit:
                 self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
                            f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
+            elif self._is_literal(name):
+                self.error(callee, f"unsupported: enumeration literals with parameters ('{name}(…)')")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
             else:
