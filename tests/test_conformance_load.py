@@ -140,9 +140,9 @@ def test_known_deviation(case: str) -> None:
     assert not any(LATER.search(d.message.removeprefix("unsupported: ")) for d in unsupported)
 
 
-@pytest.mark.xfail(strict=True, reason="bug: an enumeration literal with parameters, used as EM3(1), also gives the "
-                   "follow-on error \"unknown function 'EM3'\" (test15.rct:26:15) though EM3 is declared")
 def test_known_deviation_has_no_follow_on_errors() -> None:
+    """A use of the literal, EM3(1), is reported as the declaration is (it gave "unknown function
+    'EM3'" until session 8)."""
     result = outcome(VALID / "test15")
     assert isinstance(result, ModelError)
     errs = errors(result)

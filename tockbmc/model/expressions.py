@@ -355,7 +355,7 @@ class ExprChecker:
                 self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
                            f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             elif self._is_literal(name):
-                self.error(callee, f"unsupported: enumeration literals with parameters ('{name}(…)')")
+                self.error(callee, "unsupported: enumeration literals with parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
             else:
