@@ -549,9 +549,9 @@ def test_suggestion_for_unimported_literal_differs_from_the_name(tmp_path: Path)
 
 
 @pytest.mark.parametrize(("declaration", "column", "message"), [
-    ("var s : vector(int, 2)", 11, "unsupported: vectors and matrices"),
-    ("var s : boolean = (lambda k : int @ k > 0)(1)", 22, "unsupported: lambda expressions"),
-    ("var s : Set(int) = {1 to 2}", 22, "unsupported: sets ('{a to b}')"),
+    ("var s : vector(int, x)", 23, "unsupported: a vector's or matrix's size that is not a number literal from 1 to 64"),
+    ("var s : boolean = (the k : int | k > 0 @ k > 1)", 22, "unsupported: definite descriptions ('the')"),
+    ("var s : boolean = (1 is int)", 22, "unsupported: toolkits (type tests 'is')"),
 ])
 def test_unsupported_construct_at_its_line(tmp_path: Path, declaration: str, column: int, message: str) -> None:
     write_files(tmp_path, {"m.rct": f"stm M {{\n  var x : int = 0\n  {declaration}\n  initial i\n"

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import z3
 
-from tockbmc.bmc.engine import Clock, Status
+from tockbmc.bmc.engine import Clock, Status, new_solver
 from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import leaves
@@ -62,7 +62,7 @@ def nondeterminism(system: TransitionSystem, bound: int, timeout: float | None =
     that the search from the start would need many more steps for."""
     clock = Clock(timeout)
     a, b = Unroller(system, "A."), Unroller(system, "B.")
-    solver = z3.Solver()
+    solver = new_solver(system)
     if start is None:
         solver.add(a.at(system.init(), 0), b.at(system.init(), 0))
     else:

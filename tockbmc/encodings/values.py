@@ -40,6 +40,8 @@ def sort_of(t: ast.Type) -> z3.SortRef:
         return z3.SetSort(sort_of(t.element))
     if isinstance(t, (ast.RecordType, ast.ProductType)):
         return _datatype(t)
+    if isinstance(t, ast.FunctionType):  # a Z3 array: a total function, equal when equal everywhere
+        return z3.ArraySort(sort_of(t.domain), sort_of(t.range))
     raise Unsupported(ast.Pos("<model>", 1, 1), f"values of type {t} are not encoded yet")
 
 
@@ -64,6 +66,8 @@ def _qualified(t: ast.Type) -> str:
         return "(" + "*".join(_qualified(p) for p in t.parts) + ")"
     if isinstance(t, (ast.SeqType, ast.SetType)):
         return f"{'Seq' if isinstance(t, ast.SeqType) else 'Set'}({_qualified(t.element)})"
+    if isinstance(t, ast.FunctionType):
+        return f"({_qualified(t.domain)} -> {_qualified(t.range)})"
     return getattr(t, "qname", t.name)
 
 
@@ -154,6 +158,11 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
     cs: list[z3.BoolRef] = []
     if isinstance(t, (ast.SeqType, ast.SetType)):
         return _container_domain(v, t, ranges, path)
+    if isinstance(t, ast.FunctionType):
+        # Its results are in their type at each point a run applies it (`Evaluator._apply`), as an
+        # uninterpreted function's are: exact, since only applied points matter, and free of the
+        # quantifier `forall x @ f(x) in T`, on which Z3 timed out at depth 2 (LambdaExpVarTest).
+        return []
     if t == ast.NAT:
         cs.append(v >= 0)
     if isinstance(t, ast.EnumType):
@@ -286,6 +295,12 @@ class Evaluator:
             return z3.If(c, a, b)
         if isinstance(e, ast.Call):
             return self._call(e, operands)
+        if isinstance(e, ast.Builtin) and e.op in ("min", "max"):
+            [a] = operands
+            assert not isinstance(a, dict)
+            r, axiom = _extremum(e, a)
+            self.side.append(axiom)
+            return r
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
             return _collection(e, operands)
         if isinstance(e, ast.Let):
@@ -293,6 +308,16 @@ class Evaluator:
             return self._inner({**self.env, id(e.variable): bound}).value(e.body)
         if isinstance(e, ast.Quantifier):
             return self._quantifier(e)
+        if isinstance(e, ast.Lambda):
+            return self._lambda(e)
+        if isinstance(e, ast.SetComprehension):
+            return self._comprehension(e)
+        if isinstance(e, ast.Apply):
+            f, *args = operands
+            assert isinstance(e.function.type, ast.FunctionType) and not isinstance(f, dict)
+            result = unpack(f[_argument(e.function.type, args)], e.type)
+            self.side += domain(result, e.type, Ranges(), "result")  # a result is a value of its type
+            return result
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
             if name not in self.clocks:
@@ -340,19 +365,63 @@ class Evaluator:
         return result
 
 
+    def _bound(self, variables: tuple[ast.Variable, ...], pos: ast.Pos) -> tuple[list[z3.ExprRef], dict[int, Value]]:
+        """Fresh constants for bound variables (a quantifier's, a lambda's) and their values."""
+        consts: list[z3.ExprRef] = []
+        values: dict[int, Value] = {}
+        for v in variables:
+            x = z3.Const(f"{v.name}!{pos.line}:{pos.column}", sort_of(v.type))
+            consts.append(x)
+            values[id(v)] = unpack(x, v.type)
+        return consts, values
+
+    def _lambda(self, e: ast.Lambda) -> z3.ExprRef:
+        """`lambda x : T, … | c @ b` as a Z3 lambda (an array term) over one constant of the domain
+        (a product domain's parts read by its accessors); where `c` fails, any value (an
+        uninterpreted function of the point, as outside a function's precondition)."""
+        t = e.type
+        assert isinstance(t, ast.FunctionType)
+        x = z3.Const(f"lambda!{e.pos.line}:{e.pos.column}", sort_of(t.domain))
+        if len(e.variables) == 1:
+            values: dict[int, Value] = {id(e.variables[0]): unpack(x, t.domain)}
+        else:
+            point = unpack(x, t.domain)
+            assert isinstance(point, dict)
+            values = {id(v): point[str(i)] for i, v in enumerate(e.variables, 1)}
+        side: list[z3.BoolRef] = []
+        inner = self._inner({**self.env, **values}, side=side)
+        body = pack(inner.value(e.body), t.range)
+        if e.condition is not None:
+            outside = z3.Function(f"lambda!{e.pos.line}:{e.pos.column}.outside", x.sort(), sort_of(t.range))
+            body = z3.If(inner.scalar(e.condition), body, outside(x))
+        self.side += [z3.ForAll([x], c) for c in side]
+        return z3.Lambda([x], body)
+
+    def _comprehension(self, e: ast.SetComprehension) -> z3.ExprRef:
+        """`{x : T | p @ t}` as a Z3 set: without a term, the `x` in their domain that satisfy `p`
+        (a lambda); with one, the values `y` for which some such `x` gives `t == y` (a lambda over
+        an existential, which Z3 may answer `unknown` on)."""
+        consts, values = self._bound(e.variables, e.pos)
+        side: list[z3.BoolRef] = []
+        inner = self._inner({**self.env, **values}, side=side)
+        dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
+        cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
+        self.side += [z3.ForAll(consts, c) for c in side]
+        guard = z3.And(*dom, cond)
+        assert isinstance(e.type, ast.SetType)
+        if e.term is None:
+            return z3.Lambda(consts, guard)
+        y = z3.Const(f"member!{e.pos.line}:{e.pos.column}", sort_of(e.type.element))
+        term = pack(inner.value(e.term), e.type.element)
+        return z3.Lambda([y], z3.Exists(consts, z3.And(guard, _coerce_eq(term, y))))
+
     def _quantifier(self, e: ast.Quantifier) -> z3.BoolRef:
         """`forall`/`exists`/`exists1` as a Z3 quantifier over fresh constants, each in its type's
         domain within the ranges in force (as a value the environment supplies). The side
         constraints the body adds (axioms of uninterpreted functions at the bound points) hold for
         every value of the bound variables, so they are quantified too."""
-        values: dict[int, Value] = {}
-        consts: list[z3.ExprRef] = []
-        dom: list[z3.BoolRef] = []
-        for v in e.variables:
-            x = z3.Const(f"{v.name}!{e.pos.line}:{e.pos.column}", sort_of(v.type))
-            consts.append(x)
-            values[id(v)] = unpack(x, v.type)
-            dom += domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")
+        consts, values = self._bound(e.variables, e.pos)
+        dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
         side: list[z3.BoolRef] = []
         inner = self._inner({**self.env, **values}, side=side)
         cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
@@ -394,7 +463,18 @@ def _operands(e: ast.Expr) -> tuple[ast.Expr, ...]:
         return e.args
     if isinstance(e, ast.Let):
         return (e.value,)
+    if isinstance(e, ast.Apply):
+        return (e.function, *e.args)
     return ()
+
+
+def _argument(t: ast.FunctionType, args: list[Value]) -> z3.ExprRef:
+    """The point a function is applied at: one argument of its domain, or its product domain's
+    parts given one by one (packed into the product's datatype)."""
+    if len(args) == 1:
+        return pack(args[0], t.domain)
+    assert isinstance(t.domain, ast.ProductType)
+    return pack({str(i): a for i, a in enumerate(args, 1)}, t.domain)
 
 
 def _collection(e: ast.Expr, operands: list[Value]) -> Value:
@@ -439,6 +519,30 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         member = z3.IsMember(pack(operands[0], set_type.element), xs[1])
         return member if op == "in" else z3.Not(member)
     st = args[0].type
+    if op == "as":  # a cast that changes no value (the checker builds no other)
+        return as_type(operands[0], e.type)
+    if op == "interval":
+        low, high, closed_low, closed_high = xs
+        i = z3.Int(f"interval!{e.pos.line}:{e.pos.column}")
+        above = i >= low if z3.is_true(closed_low) else i > low
+        below = i <= high if z3.is_true(closed_high) else i < high
+        return z3.Lambda([i], z3.And(above, below))
+    if op == "extract":
+        assert isinstance(args[1].type, ast.SeqType)
+        s = xs[1]
+        i, acc, x = z3.Int("extract!i"), z3.Const("extract!acc", s.sort()), z3.Const("extract!x", sort_of(args[1].type.element))
+        keep = z3.If(z3.IsMember(i, a), z3.Concat(acc, z3.Unit(x)), acc)
+        return z3.SeqFoldLeftI(z3.Lambda([i, acc, x], keep), z3.IntVal(1), z3.Empty(s.sort()), s)
+    if op == "override":
+        return _override(e, a, xs[1])
+    if op == "update":
+        # `s[i] = v` within 1..#s replaces the i-th item; outside it the result is any sequence
+        # (as an index outside 1..#s has any value), one uninterpreted function of (s, i, v).
+        i, item = xs[1], xs[2]
+        n = z3.Length(a)
+        replaced = z3.Concat(z3.SubSeq(a, 0, i - 1), z3.Unit(item), z3.SubSeq(a, i, n - i))
+        outside = z3.Function("update.outside", a.sort(), z3.IntSort(), item.sort(), a.sort())
+        return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
     if op == "size":
         if isinstance(st, ast.SetType):
             raise Unsupported(e.pos, "the size of a set (Z3's sets have no cardinality)")
@@ -482,6 +586,58 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     if op == "subset":
         return z3.And(z3.IsSubset(a, b), a != b)
     raise Unsupported(e.pos, f"the operation '{op}' is not encoded yet")
+
+
+def _extremum(e: ast.Builtin, a: z3.ExprRef) -> tuple[z3.ExprRef, z3.BoolRef]:
+    """sequence_toolkit's `min(a)` (`max(a)`): a member of `a` no greater (less) than any other,
+    when `a` has one (its precondition `hasMin(a)`); outside it any value. One uninterpreted
+    function of the set per operation, with that axiom at this set; the axiom is quantified, so Z3
+    may answer `unknown`."""
+    sort = a.sort()
+    assert isinstance(sort, z3.ArraySortRef)
+    element = sort.domain()
+    f = z3.Function(f"toolkit.{e.op}", sort, element)
+    r = f(a)
+    m, n = z3.Const(f"{e.op}!m", element), z3.Const(f"{e.op}!n", element)
+
+    def bound(x: z3.ExprRef, y: z3.ExprRef) -> z3.BoolRef:
+        return x <= y if e.op == "min" else x >= y  # type: ignore[operator, return-value]
+
+    has = z3.Exists([m], z3.And(z3.IsMember(m, a), z3.ForAll([n], z3.Implies(z3.IsMember(n, a), bound(m, n)))))
+    is_extremum = z3.And(z3.IsMember(r, a), z3.ForAll([n], z3.Implies(z3.IsMember(n, a), bound(r, n))))
+    return r, z3.Implies(has, is_extremum)
+
+
+def _override(e: ast.Builtin, r: z3.ExprRef, s: z3.ExprRef) -> z3.ExprRef:
+    """relation_toolkit's `override(r, s)`, `(dom(s) ⩤ r) ∪ s`: for a function `r` and a set of
+    pairs `s`, the function that at `x` is `s`'s `y` where `s` has a pair `(x, y)` and `r(x)`
+    elsewhere. A literal `s` is a chain of `If`s; where it pairs one `x` twice the result is not
+    a function, and the pair written last is taken (the explicit engine refuses to choose). Any
+    other `s` is not encoded yet."""
+    rt = e.args[0].type
+    if not isinstance(rt, ast.FunctionType):
+        raise Unsupported(e.pos, "override of a relation that is not a function is not encoded yet")
+    given = e.args[1]
+    if not isinstance(given, ast.SetLiteral):
+        raise Unsupported(e.pos, "override by a set that is not a literal is not encoded yet")
+    x = z3.Const(f"override!{e.pos.line}:{e.pos.column}", sort_of(rt.domain))
+    body = r[x]
+    sort = sort_of(ast.ProductType((rt.domain, rt.range)))
+    assert isinstance(sort, z3.DatatypeSortRef)
+    members = _literal_members(s)
+    for m in members:
+        key, value = sort.accessor(0, 0)(m), sort.accessor(0, 1)(m)
+        body = z3.If(x == key, value, body)
+    return z3.Lambda([x], body)
+
+
+def _literal_members(s: z3.ExprRef) -> list[z3.ExprRef]:
+    """The members a set literal's term adds (`SetAdd` chains over the empty set), first first."""
+    out: list[z3.ExprRef] = []
+    while z3.is_app_of(s, z3.Z3_OP_STORE):
+        out.append(s.arg(1))
+        s = s.arg(0)
+    return out[::-1]
 
 
 def _binary(e: ast.Binary, left: Value, right: Value) -> Value:

@@ -227,6 +227,42 @@ class Unknown:
     __floordiv__ = __rfloordiv__ = __mod__ = __rmod__ = _need
 
 
+class Closure:
+    """A function value: a `lambda` (or a declared function named as a value), the values its
+    free names had when it was made (a function's value does not change when the variables it
+    read do), and the points an `override` gave other results (the last one for a point wins).
+    Two closures are equal when they are the same lambda over the same values: configurations
+    compare so; a model's `f == g` compares functions everywhere, which is not interpreted."""
+
+    __slots__ = ("fn", "bind", "overrides", "_key")
+
+    def __init__(self, fn: ast.Lambda, bind: tuple, overrides: tuple = ()) -> None:
+        self.fn, self.bind, self.overrides = fn, bind, overrides
+        self._key = (fn.pos, bind, overrides)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Closure) and self._key == other._key
+
+    def __hash__(self) -> int:
+        return hash(self._key)
+
+    def __str__(self) -> str:
+        return f"lambda@{self.fn.pos.line}:{self.fn.pos.column}"
+
+    __repr__ = __str__
+
+
+@dataclass(frozen=True)
+class AnyFunction:
+    """The value of a function-typed place nobody has set (an input, a variable without an initial
+    value): any function of `type`. Applying it is not interpreted (its results cannot be listed)."""
+
+    type: ast.FunctionType
+
+    def __str__(self) -> str:
+        return f"any {self.type}"
+
+
 class NeedValue(Exception):
     """A step reads `unknown` (lazy mode): the configuration or input holding it must be split."""
 
@@ -451,6 +487,9 @@ def _coerce(t: ast.Type | None, v: object) -> object:
         return frozenset(_coerce(t.element, x) for x in v)
     if isinstance(t, ast.ProductType) and isinstance(v, tuple):
         return Product(_coerce(pt, x) for pt, x in zip(t.parts, v, strict=True))
+    if isinstance(t, ast.ProductType) and isinstance(v, dict) and set(v) == {str(i) for i in range(1, len(t.parts) + 1)}:
+        # a tuple given by its parts "1", "2", … (a constant's value as the configuration reads it)
+        return Product(_coerce(pt, v[str(i)]) for i, pt in enumerate(t.parts, 1))
     return v
 
 
@@ -1088,6 +1127,8 @@ class Interpreter:
             d = [Product(combo) for combo in itertools.product(*parts)]
         elif isinstance(t, (ast.SeqType, ast.SetType)):
             d = self._collections(t, paths)
+        elif isinstance(t, ast.FunctionType):
+            d = [AnyFunction(t)]
         else:
             lo, hi = self._bounds(t, paths)
             d = [Fraction(n) for n in range(lo, hi + 1)] if t == ast.REAL else list(range(lo, hi + 1))
@@ -1136,7 +1177,7 @@ class Interpreter:
             return len(t.literals)
         if isinstance(t, ast.RecordType):
             return math.prod(self._size(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields)
-        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType)):
+        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType, ast.FunctionType)):
             return len(self.domain(t, paths))
         lo, hi = self._bounds(t, paths)
         return max(0, hi - lo + 1)
@@ -1153,7 +1194,7 @@ class Interpreter:
             return f"{t.name}::{rng.choice(t.literals)}"
         if isinstance(t, ast.RecordType):
             return Record({f.name: self._draw(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields})
-        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType)):
+        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType, ast.FunctionType)):
             return rng.choice(self.domain(t, paths))
         lo, hi = self._bounds(t, paths)
         n = rng.randint(lo, hi)
@@ -1261,6 +1302,8 @@ class Interpreter:
                 return a - b
             if op == "*":
                 return a * b
+            if op in ("==", "!=") and isinstance(a, (Closure, AnyFunction)):
+                raise NotInterpretable(e.pos, "equality of functions (equal at every point)")
             if op == "==":
                 return a == b
             if op == "!=":
@@ -1355,7 +1398,72 @@ class Interpreter:
                 ctx.bind = saved
         if isinstance(e, ast.Quantifier):
             return self._quantifier(ctx, e)
+        if isinstance(e, ast.Lambda):
+            return self._closure(ctx, e)
+        if isinstance(e, ast.Apply):
+            return self._apply(ctx, e, self._ev(ctx, e.function), [self._ev(ctx, a) for a in e.args])
+        if isinstance(e, ast.SetComprehension):
+            return self._comprehension(ctx, e)
         raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _closure(self, ctx: _Ctx, e: ast.Lambda) -> Closure:
+        """A lambda's value: the values of the names it reads from outside, read now."""
+        own = {(v.owner, v.name) for v in e.variables}
+        bind: dict[tuple[str, str], object] = {}
+        for x in ast.subexpressions((e.condition, e.body)):
+            if not isinstance(x, ast.VarRef):
+                continue
+            var = x.variable
+            key = (var.owner, var.name)
+            if key in own or key in bind:
+                continue
+            if ctx.bind is not None and key in ctx.bind or var.kind not in ("bound", "let"):
+                value = self._get(ctx, var)
+                # Lazy mode: a value not chosen yet is chosen now (its configuration split), as a
+                # closure hides it from the search for Unknowns in configurations.
+                bind[key] = self._known(ctx, value) if self.lazy else value
+            # else bound inside the body, by a let or a quantifier
+        return Closure(e, tuple(sorted(bind.items(), key=lambda kv: kv[0])))
+
+    def _apply(self, ctx: _Ctx, e: ast.Expr, f: object, args: list) -> object:
+        """A function value applied to its arguments (several, or one tuple of a product domain)."""
+        if isinstance(f, AnyFunction):
+            raise NotInterpretable(e.pos, f"a function of type {f.type} that has no value is applied")
+        assert isinstance(f, Closure)
+        t = f.fn.type
+        assert isinstance(t, ast.FunctionType)
+        point = _coerce(t.domain, args[0] if len(args) == 1 else Product(args))
+        for key, value in reversed(f.overrides):
+            if key == point:
+                return value
+        variables = f.fn.variables
+        values = [point] if len(variables) == 1 else list(point)  # type: ignore[call-overload]
+        saved = ctx.bind
+        ctx.bind = {**dict(f.bind), **{(v.owner, v.name): _coerce(v.type, x) for v, x in zip(variables, values, strict=True)}}
+        try:
+            if f.fn.condition is not None and not self._ev(ctx, f.fn.condition):
+                raise NotInterpretable(e.pos, "a lambda applied where its condition fails (any value)")
+            result = _coerce(t.range, self._ev(ctx, f.fn.body))
+        finally:
+            ctx.bind = saved
+        if not _fits(t.range, result):  # BMC keeps a function's results in their type
+            raise NotInterpretable(e.pos, f"a function's result {value_text(t.range, result)} outside its type {t.range}")
+        return result
+
+    def _comprehension(self, ctx: _Ctx, e: ast.SetComprehension) -> frozenset:
+        """`{x : T | p @ t}`, by trying every value of the bound variables' types within the ranges."""
+        domains = [self.domain(v.type) for v in e.variables]
+        saved = ctx.bind
+        out = set()
+        try:
+            for combo in itertools.product(*domains):
+                ctx.bind = {**(saved or {}), **{(v.owner, v.name): x for v, x in zip(e.variables, combo, strict=True)}}
+                if e.condition is not None and not self._ev(ctx, e.condition):
+                    continue
+                out.add(combo[0] if e.term is None else self._ev(ctx, e.term))
+        finally:
+            ctx.bind = saved
+        return _coerce(e.type, frozenset(out))  # type: ignore[return-value]
 
     def _quantifier(self, ctx: _Ctx, e: ast.Quantifier) -> bool:
         """`forall`/`exists`/`exists1`, by trying every value of the bound variables' types within
@@ -1388,6 +1496,35 @@ class Interpreter:
             if not a:
                 raise NotInterpretable(e.pos, f"{op} of an empty sequence")
             return a[0] if op == "head" else a[-1]
+        if op == "as":
+            return _coerce(e.type, a)
+        if op == "update":
+            i, item = args[1], args[2]
+            if not 1 <= i <= len(a):  # outside 1..#s the result is any sequence (BMC: uninterpreted)
+                raise NotInterpretable(e.pos, f"item {i} assigned in a sequence of length {len(a)}")
+            return a[:i - 1] + (item,) + a[i:]
+        if op in ("min", "max"):
+            if not a:  # outside the precondition hasMin(a): any value
+                raise NotInterpretable(e.pos, f"{op} of an empty set")
+            return min(a) if op == "min" else max(a)
+        if op == "interval":
+            lo, hi, closed_lo, closed_hi = args
+            lo, hi = math.ceil(lo) + (0 if closed_lo or lo != math.ceil(lo) else 1), \
+                math.floor(hi) - (0 if closed_hi or hi != math.floor(hi) else 1)
+            if hi - lo >= MAX_COLLECTIONS:
+                raise NotInterpretable(e.pos, f"a set of {hi - lo + 1} integers")
+            return frozenset(range(lo, hi + 1))
+        if op == "override":
+            b = args[1]
+            if isinstance(a, AnyFunction):
+                raise NotInterpretable(e.pos, f"a function of type {a.type} that has no value is overridden")
+            if isinstance(a, Closure):
+                if len({p[0] for p in b}) < len(b):  # not a function there: BMC takes the pair written last
+                    raise NotInterpretable(e.pos, "override by a set that pairs one point with two values")
+                pairs = tuple((p[0], p[1]) for p in sorted(b, key=repr))
+                return Closure(a.fn, a.bind, a.overrides + pairs)
+            keys = {p[0] for p in b}
+            return frozenset(p for p in a if p[0] not in keys) | b
         simple: dict[str, Callable[[], object]] = {
             "size": lambda: len(a), "isNonEmpty": lambda: len(a) > 0, "tail": lambda: a[1:], "front": lambda: a[:-1],
             "reverse": lambda: a[::-1], "dom": lambda: frozenset(range(1, len(a) + 1)),
@@ -1399,6 +1536,7 @@ class Interpreter:
         pair: dict[str, Callable[[], object]] = {
             "concat": lambda: _coerce(e.type, a + b), "prefix": lambda: b[:len(a)] == a,
             "filter": lambda: tuple(x for x in a if x in b),
+            "extract": lambda: tuple(x for i, x in enumerate(b, 1) if i in a),
             "union": lambda: _coerce(e.type, a | b), "inter": lambda: a & b, "diff": lambda: a - b,
             "subseteq": lambda: a <= b, "subset": lambda: a < b,
         }

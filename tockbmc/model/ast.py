@@ -129,6 +129,24 @@ class ProductType(Type):
 
 
 @dataclass(frozen=True)
+class FunctionType(Type):
+    """`D -> R`: total functions from `D` to `R`; a function of several arguments has a product
+    `D1 * D2` as its domain (RoboChart's `FunctionType`, whose domain is a `ProductType`)."""
+
+    domain: Type
+    range: Type
+
+    @property
+    def name(self) -> str:
+        return f"{self.domain} -> {self.range}"
+
+    @property
+    def arguments(self) -> tuple[Type, ...]:
+        """The types of the arguments a call passes: a product domain's parts, else the domain."""
+        return self.domain.parts if isinstance(self.domain, ProductType) else (self.domain,)
+
+
+@dataclass(frozen=True)
 class AnyElement(Type):
     """The element type of an empty literal (`<>`, `{}`): fits any element type."""
 
@@ -159,6 +177,8 @@ def type_vars(t: Type | None) -> set[str]:
         return type_vars(t.element)
     if isinstance(t, ProductType):
         return set().union(*(type_vars(p) for p in t.parts))
+    if isinstance(t, FunctionType):
+        return type_vars(t.domain) | type_vars(t.range)
     return set()
 
 
@@ -182,6 +202,8 @@ def unify(param: Type, arg: Type, bindings: dict[str, Type]) -> bool:
         return unify(param.element, arg.element, bindings)  # type: ignore[union-attr]
     if isinstance(param, ProductType) and isinstance(arg, ProductType) and len(param.parts) == len(arg.parts):
         return all(unify(p, a, bindings) for p, a in zip(param.parts, arg.parts, strict=True))
+    if isinstance(param, FunctionType) and isinstance(arg, FunctionType):
+        return unify(param.domain, arg.domain, bindings) and unify(param.range, arg.range, bindings)
     return True  # a mismatch is the argument's type error, reported once the types are fixed
 
 
@@ -229,11 +251,22 @@ def assignable(target: Type, value: Type) -> bool:
     if isinstance(target, ProductType) and isinstance(value, ProductType):
         return len(target.parts) == len(value.parts) and \
             all(assignable(a, b) for a, b in zip(target.parts, value.parts, strict=True))
+    if isinstance(target, FunctionType) and isinstance(value, FunctionType):
+        # A function is kept as one term (a Z3 array): its domain and range as they are, but for
+        # a natural range where an integer one is expected (both are Z3 integers).
+        return same_representation(target.domain, value.domain) and assignable(target.range, value.range) \
+            and same_representation(target.range, value.range)
     if target == REAL and value in (INT, NAT):
         return True
     if target in (INT, NAT) and value in (INT, NAT):
         return True
     return False
+
+
+def same_representation(a: Type, b: Type) -> bool:
+    """Whether values of `a` and `b` are kept alike (integers and naturals are; reals are not)."""
+    return assignable(a, b) and assignable(b, a) and (a == REAL) == (b == REAL) or \
+        isinstance(a, (ErrorType, AnyElement)) or isinstance(b, (ErrorType, AnyElement))
 
 
 def comparable(a: Type, b: Type) -> bool:
@@ -455,6 +488,34 @@ class Quantifier(Expr):
     variables: tuple[Variable, ...]
     condition: Expr | None
     body: Expr
+
+
+@dataclass(frozen=True)
+class Lambda(Expr):
+    """`lambda x : T, … | c @ e`, of type `FunctionType`: `variables` (kind "bound") are the
+    arguments; where `condition` (None: true) fails the function's value is any value."""
+
+    variables: tuple[Variable, ...]
+    condition: Expr | None
+    body: Expr
+
+
+@dataclass(frozen=True)
+class Apply(Expr):
+    """`f(a, …)` where `f` is a value of a function type (a variable, a `lambda`, a cast)."""
+
+    function: Expr
+    args: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class SetComprehension(Expr):
+    """`{x : T, … | p @ e}` (RoboChart's `SetComp`): the values of `e` (without `@ e`: of the one
+    bound variable) for the values of `variables` (kind "bound") that satisfy `condition`."""
+
+    variables: tuple[Variable, ...]
+    condition: Expr | None
+    term: Expr | None
 
 
 @dataclass(frozen=True)

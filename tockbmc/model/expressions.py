@@ -23,11 +23,7 @@ Report = Callable[[Pos, str], None]
 
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
-    "lambda_expr": "lambda expressions",
     "definite_description": "definite descriptions ('the')",
-    "set_range_expr": "sets ('{a to b}')",
-    "vector_expr": "vectors and matrices",
-    "as_expr": "toolkits (type casts 'as')",
     "is_expr": "toolkits (type tests 'is')",
 }
 
@@ -37,6 +33,7 @@ TOOLKIT_FUNCTIONS = {
     "size": 1, "head": 1, "last": 1, "tail": 1, "front": 1, "reverse": 1, "isNonEmpty": 1, "concat": 2,
     "filter": 2, "prefix": 2, "dom": 1, "ran": 1, "elems": 1,
     "union": 2, "inter": 2, "diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
+    "min": 1, "max": 1, "extract": 2, "override": 2,
 }
 
 _ARITHMETIC = {"+", "-", "*", "/", "%"}
@@ -167,12 +164,23 @@ class ExprChecker:
         enum = self.scope.resolve_global(name, "enum_literal")
         if isinstance(enum, ast.EnumType):  # RoboChart also accepts a literal's bare name
             return ast.EnumLiteral(enum, p, enum, name)
+        function = self.scope.resolve_global(name, "function")
+        if isinstance(function, ast.Function) and not function.generic and function.parameters:
+            return function_value(function, p)
         if name in self.scope.events:
             self.error(node, f"'{name}' is an event, not a value")
             return ast.Literal(ERROR, p, 0)
         known = list(self.scope.variables) + self.scope.global_names("enum_literal")
         self._unknown(node, "name", name, known)
         return ast.Literal(ERROR, p, 0)
+
+    def _is_literal(self, name: str) -> bool:
+        """Whether `name` (`L` or `E::L`) names an enumeration literal."""
+        if "::" not in name:
+            return isinstance(self.scope.resolve_global(name, "enum_literal"), ast.EnumType)
+        type_name, _, literal = name.rpartition("::")
+        enum = self.scope.resolve_global(type_name, "type")
+        return isinstance(enum, ast.EnumType) and literal in enum.literals
 
     def enum_literal(self, name: str, p: Pos) -> ast.Expr | None:
         if "::" not in name:
@@ -228,6 +236,8 @@ class ExprChecker:
 
     def _x_neg(self, node: Tree, p: Pos) -> ast.Expr:
         operand = self.expr(node.children[0])
+        if _dims(operand.type):
+            return _elementwise(p, operand.type, lambda k: _neg(p, _part(p, operand, k)))
         if not ast.is_numeric(operand.type):
             self.error(node, f"type error: '-' needs a number, but this is {operand.type}")
             return ast.Unary(ERROR, p, "-", operand)
@@ -257,6 +267,8 @@ class ExprChecker:
                     self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
             return ast.Binary(BOOLEAN, p, op, left, right)
         assert op in _ARITHMETIC
+        if op in ("+", "-", "*") and (_dims(left.type) or _dims(right.type)):
+            return self._linear(node, p, op, left, right)
         for side, e in ((left_node, left), (right_node, right)):
             if not ast.is_numeric(e.type):
                 self.error(side, f"type error: '{op}' needs numbers, but this is {e.type}")
@@ -267,6 +279,43 @@ class ExprChecker:
         if op == "/" and rtype != REAL and not isinstance(rtype, ast.ErrorType):
             rtype = INT if rtype == NAT else rtype  # integer division on integers
         return ast.Binary(rtype, p, op, left, right)
+
+    def _linear(self, node: Tree, p: Pos, op: str, left: ast.Expr, right: ast.Expr) -> ast.Expr:
+        """Vector and matrix arithmetic, written out item by item over the tuples they are:
+        `v + w` and `v - w` of one shape, a number times a vector or matrix, `v * w` the dot
+        product, `m * v` and `m * n` the matrix products (RoboChart's `Plus`, `Minus`, `Mult` on
+        `VectorType` and `MatrixType`)."""
+        a, b = _dims(left.type), _dims(right.type)
+        if isinstance(left.type, ast.ErrorType) or isinstance(right.type, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)  # reported where it arose
+        if a is None or b is None:
+            self.error(node, f"type error: '{op}' cannot take {left.type} and {right.type}")
+            return ast.Literal(ERROR, p, 0)
+        if op in ("+", "-"):
+            if a != b:
+                self.error(node, f"type error: '{op}' needs two vectors or matrices of one shape, but these are "
+                                 f"{left.type} and {right.type}")
+                return ast.Literal(ERROR, p, 0)
+            return _pointwise(p, op, left, right)
+        if not a or not b:  # a number times a vector or matrix
+            scalar, shaped = (left, right) if not a else (right, left)
+            return _scaled(p, scalar, shaped)
+        if len(a) == 1 and a == b:
+            return _dot(p, [_part(p, left, k) for k in range(1, a[0] + 1)], [_part(p, right, k) for k in range(1, a[0] + 1)])
+        if len(a) == 2 and a[1] == b[0]:
+            rows = [_part(p, left, i) for i in range(1, a[0] + 1)]
+            if len(b) == 1:
+                items = [_dot(p, [_part(p, r, k) for k in range(1, a[1] + 1)], [_part(p, right, k) for k in range(1, a[1] + 1)])
+                         for r in rows]
+            else:
+                items = []
+                for r in rows:
+                    entries = [_dot(p, [_part(p, r, k) for k in range(1, a[1] + 1)],
+                                    [_part(p, _part(p, right, k), j) for k in range(1, a[1] + 1)]) for j in range(1, b[1] + 1)]
+                    items.append(ast.TupleLiteral(_tuple_type(entries), p, tuple(entries)))
+            return ast.TupleLiteral(_tuple_type(items), p, tuple(items))
+        self.error(node, f"type error: '*' cannot multiply {left.type} by {right.type} (their sizes do not match)")
+        return ast.Literal(ERROR, p, 0)
 
     def _x_if_expr(self, node: Tree, p: Pos) -> ast.Expr:
         c, a, b = (self.expr(n) for n in node.children)
@@ -283,12 +332,12 @@ class ExprChecker:
     def _x_call_expr(self, node: Tree, p: Pos) -> ast.Expr:
         callee = node.children[0]
         args_nodes = node.children[1].children if len(node.children) > 1 else []
-        if not (isinstance(callee, Tree) and callee.data == "name_expr"):
-            value = self.expr(callee)
-            if not isinstance(value.type, ast.ErrorType):
-                self.error(callee, "only named functions can be called")
-            return ast.Literal(ERROR, p, 0)
-        name = qname_text(callee.children[0])
+        name = qname_text(callee.children[0]) if isinstance(callee, Tree) and callee.data == "name_expr" else None
+        var = self.scope.variables.get(name) if name is not None else None
+        if name is None or var is not None and isinstance(var.type, ast.FunctionType):
+            # A value of a function type applied: a variable, a `lambda`, a cast (RoboChart's
+            # `CallExp` whose function is any expression).
+            return self._apply(node, p, self.expr(callee), args_nodes)
         function = self.scope.resolve_global(name, "function")
         if isinstance(function, ast.ErrorType):  # a function that failed to resolve, reported at its declaration
             for a in args_nodes:
@@ -305,6 +354,8 @@ class ExprChecker:
             elif self.scope.toolkit:
                 self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
                            f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
+            elif self._is_literal(name):
+                self.error(callee, "unsupported: enumeration literals with parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
             else:
@@ -331,6 +382,75 @@ class ExprChecker:
             function = instance
         args = self._check_arguments(node, name, args_nodes, args, function.parameters)
         return ast.Call(function.result, p, function, args)
+
+    def _apply(self, node: Tree, p: Pos, value: ast.Expr, args_nodes: list) -> ast.Expr:
+        """`f(a, …)` for a value `f` of a function type: one argument per part of a product
+        domain (or one tuple of the domain), else one argument of the domain."""
+        args = tuple(self.expr(a) for a in args_nodes)
+        t = value.type
+        if isinstance(t, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)
+        if not isinstance(t, ast.FunctionType):
+            self.error(node.children[0], f"type error: only functions can be called, but this is {t}")
+            return ast.Literal(ERROR, p, 0)
+        wanted = t.arguments if len(args) != 1 else (t.domain,)
+        if len(args) != len(wanted):
+            self.error(node, f"a function of type {t} takes {len(wanted)} argument(s), but {len(args)} given")
+            return ast.Literal(ERROR, p, 0)
+        args = tuple(self.expect(a_node, a, w, "an argument") for a_node, a, w in zip(args_nodes, args, wanted, strict=True))
+        return ast.Apply(t.range, p, value, args)
+
+    def _x_lambda_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        decls, *rest = node.children
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, "lambda", p)
+            condition = self.condition(rest[0]) if len(rest) == 2 else None
+            body = self.expr(rest[-1])
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        if isinstance(body.type, ast.ErrorType) or any(isinstance(v.type, ast.ErrorType) for v in bound):
+            return ast.Literal(ERROR, p, 0)
+        # RoboTool types `lambda x : A, y : B @ e` as `A * B -> T` (`typeFor(LambdaExp)`).
+        domain = bound[0].type if len(bound) == 1 else ast.ProductType(tuple(v.type for v in bound))
+        return ast.Lambda(ast.FunctionType(domain, body.type), p, tuple(bound), condition, body)
+
+    def _x_set_comprehension(self, node: Tree, p: Pos) -> ast.Expr:
+        """`{x : T, … | p @ e}` (RoboChart's `SetComp`): without `@ e`, the set of the bound
+        variable's values (of the tuples of them, for several) that satisfy `p`."""
+        decls, *rest = node.children
+        condition_node = next((c.children[0] for c in rest if c.data == "such_that"), None)
+        term_node = next((c.children[0] for c in rest if c.data == "comprehension_term"), None)
+        saved = dict(self.scope.variables)
+        try:
+            bound = self._bind(decls, "set", p)
+            condition = self.condition(condition_node) if condition_node is not None else None
+            term = self.expr(term_node) if term_node is not None else None
+        finally:
+            self.scope.variables.clear()
+            self.scope.variables.update(saved)
+        if term is None and len(bound) > 1:
+            refs = tuple(ast.VarRef(v.type, p, v) for v in bound)
+            term = ast.TupleLiteral(ast.ProductType(tuple(v.type for v in bound)), p, refs)
+        element = term.type if term is not None else bound[0].type
+        if isinstance(element, ast.ErrorType) or any(isinstance(v.type, ast.ErrorType) for v in bound):
+            return ast.Literal(ERROR, p, 0)
+        return ast.SetComprehension(ast.SetType(element), p, tuple(bound), condition, term)
+
+    def _x_as_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`e as T`: `e` seen as a value of `T` (RoboTool's `AsExp`, whose type is `T`). Only a
+        cast that changes no value is built: `T` must hold `e`'s values as they are."""
+        value = self.expr(node.children[0])
+        target = self.resolve_type(node.children[1])
+        if isinstance(value.type, ast.ErrorType) or isinstance(target, ast.ErrorType):
+            return ast.Literal(ERROR, p, 0)
+        value = conform(value, target)
+        if not ast.assignable(target, value.type):
+            self.error(node, f"unsupported: a cast 'as {target}' of a value of type {value.type} "
+                       f"(only casts to a type that holds the value as it is are built)")
+            return ast.Literal(ERROR, p, 0)
+        return ast.Builtin(target, p, "as", (value,))
 
     def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
         return self._check_arguments(node, name, args_nodes, tuple(self.expr(a) for a in args_nodes), params)
@@ -390,12 +510,44 @@ class ExprChecker:
             return ast.TupleLiteral(ERROR, p, tuple(items))
         return ast.TupleLiteral(ast.ProductType(tuple(x.type for x in items)), p, tuple(items))
 
-    def _x_index_expr(self, node: Tree, p: Pos) -> ast.Expr:
-        value = self.expr(node.children[0])
-        indices = node.children[1].children
-        if len(indices) != 1:
-            self.error(node, "unsupported: indexing with more than one index (matrices)")
+    def _x_set_range_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`{a to b}` (RoboChart's `SetRange`): the integers from `a` to `b`."""
+        low, high = self.expr(node.children[0]), self.expr(node.children[1])
+        for side, e in zip(node.children, (low, high), strict=True):
+            if e.type not in (NAT, ast.INT) and not isinstance(e.type, ast.ErrorType):
+                self.error(side, f"type error: the bounds of '{{a to b}}' must be integers, but this is {e.type}")
+                return ast.Literal(ERROR, p, 0)
+        t = ast.numeric_join(low.type, high.type)
+        if isinstance(t, ast.ErrorType):
             return ast.Literal(ERROR, p, 0)
+        yes = ast.Literal(BOOLEAN, p, True)
+        return ast.Builtin(ast.SetType(t), p, "interval", (low, high, yes, yes))
+
+    def _x_vector_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        """`[|a, b|]` a vector, `[|a, b; c, d|]` a matrix of rows: tuples (`Resolver._vector_type`)."""
+        rows = []
+        for row_node in node.children:
+            items = [self.expr(c) for c in row_node.children]
+            if any(isinstance(x.type, ast.ErrorType) for x in items):
+                return ast.Literal(ERROR, p, 0)
+            t = self._element_type(row_node, items, "a vector")
+            if isinstance(t, ast.ErrorType):
+                return ast.Literal(ERROR, p, 0)
+            rows.append(ast.TupleLiteral(ast.ProductType((t,) * len(items)), p, tuple(conform(x, t) for x in items)))
+        if len(rows) == 1:
+            return rows[0]
+        if len({len(r.items) for r in rows}) != 1:
+            self.error(node, "type error: the rows of a matrix have different lengths")
+            return ast.Literal(ERROR, p, 0)
+        return ast.TupleLiteral(ast.ProductType(tuple(r.type for r in rows)), p, tuple(rows))
+
+    def _x_index_expr(self, node: Tree, p: Pos) -> ast.Expr:
+        indices = node.children[1].children
+        if len(indices) > 1:  # `m[i, j]` of a matrix: row i's item j
+            inner = Tree("index_expr", [node.children[0], Tree("exprs", indices[:-1], meta=node.children[1].meta)], meta=node.meta)
+            outer = Tree("index_expr", [inner, Tree("exprs", indices[-1:], meta=node.children[1].meta)], meta=node.meta)
+            return self._x_index_expr(outer, p)
+        value = self.expr(node.children[0])
         index = self.expr(indices[0])
         t = value.type
         if isinstance(t, ast.ErrorType) or isinstance(index.type, ast.ErrorType):
@@ -429,6 +581,7 @@ class ExprChecker:
 
     def _builtin(self, node: Tree, p: Pos, op: str, args: list[ast.Expr]) -> ast.Expr:
         """A built-in operation on sequences and sets, type-checked."""
+        args = [as_set(a) for a in args]
         if any(isinstance(a.type, ast.ErrorType) for a in args):
             return ast.Builtin(ERROR, p, op, tuple(args))
         t = builtin_type(op, [a.type for a in args])
@@ -440,6 +593,9 @@ class ExprChecker:
             args = [conform(a, t if op in ("concat", "union", "inter", "diff") else a.type) for a in args]
             if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "prefix"):
                 args = [conform(a, args[0].type) for a in args]
+        if op == "override":
+            pairs = ast.SetType(ast.ProductType((t.domain, t.range))) if isinstance(t, ast.FunctionType) else t
+            args = [args[0], conform(args[1], pairs)]
         if op in ("in", "notin"):
             element = args[1].type.element  # type: ignore[attr-defined]
             args = [conform(args[0], element), args[1]]
@@ -668,14 +824,15 @@ class ExprChecker:
                        f"'{event.name}!v'")
         return ast.Send(p, event, value)
 
-    def _s_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
-        parts = node.children[0].children
+    def _assignable(self, designator: Tree) -> tuple[ast.Variable, tuple[str, ...], ast.Expr] | None:
+        """The variable `x.f.g` assigns, the field path, and the target's value as an expression
+        (None, reported, when `x` is unknown)."""
+        parts = designator.children
         name = qname_text(parts[0])
-        value = self.expr(node.children[1])
         var = self.scope.variables.get(name)
         if var is None:
             self._unknown(parts[0], "variable", name, list(self.scope.variables))
-            return ast.Skip(p)
+            return None
         if var.constant:
             self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
         target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
@@ -684,14 +841,54 @@ class ExprChecker:
             fname = qname_text(part)
             target = self._select_known(target, fname, part)
             fields.append(fname)
+        return var, tuple(fields), target
+
+    def _s_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        value = self.expr(node.children[1])
+        found = self._assignable(node.children[0])
+        if found is None:
+            return ast.Skip(p)
+        var, fields, target = found
+        name = var.name
         value = conform(value, target.type)
         if not ast.assignable(target.type, value.type):
             self.error(node.children[1], f"type error: cannot assign {value.type} to "
                        f"'{'.'.join([name, *fields])}' of type {target.type}")
-        return ast.Assign(p, var, tuple(fields), value)
+        return ast.Assign(p, var, fields, value)
 
     def _s_array_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
-        self.error(node, "unsupported: vectors, matrices and sequences (indexing)")
+        """`s[i] = e` on a sequence (or `p[k] = e` on a tuple, `k` a literal): the assignment of
+        `s` with its `i`-th item replaced (RoboChart's `ArrayAssignable`; Z's `s ⊕ {i ↦ e}`)."""
+        designator, indices_node, value_node = node.children
+        value = self.expr(value_node)
+        indices = [self.expr(i) for i in indices_node.children]
+        found = self._assignable(designator)
+        if found is None:
+            return ast.Skip(p)
+        var, fields, target = found
+        t = target.type
+        if isinstance(t, ast.ErrorType) or any(isinstance(i.type, ast.ErrorType) for i in indices):
+            return ast.Skip(p)
+        if len(indices) != 1:
+            self.error(indices_node, "unsupported: indexing with more than one index (matrices)")
+            return ast.Skip(p)
+        [index] = indices
+        if isinstance(t, ast.SeqType):
+            if index.type not in (NAT, ast.INT):
+                self.error(indices_node, f"type error: a sequence's index must be an integer, but this is {index.type}")
+            item = self.expect(value_node, value, t.element, "the item assigned")
+            return ast.Assign(p, var, fields, ast.Builtin(t, p, "update", (target, index, item)))
+        if isinstance(t, ast.ProductType):
+            if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
+                self.error(indices_node, f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
+                return ast.Skip(p)
+            k = index.value
+            assert isinstance(k, int)
+            item = self.expect(value_node, value, t.parts[k - 1], f"part {k}")
+            items = tuple(item if j == k else ast.Index(pt, p, target, ast.Literal(NAT, p, j))
+                          for j, pt in enumerate(t.parts, 1))
+            return ast.Assign(p, var, fields, ast.TupleLiteral(t, p, items))
+        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
         return ast.Skip(p)
 
     def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
@@ -713,6 +910,82 @@ class ExprChecker:
             return ast.Skip(p)
         args = self._arguments(node, name, args_nodes, op.parameters)
         return ast.OperationCall(p, op, args)
+
+
+def _dims(t: ast.Type) -> tuple[int, ...] | None:
+    """The shape of a vector `(n,)` or matrix `(m, n)` of numbers (tuples of one numeric type),
+    `()` for a number, None for anything else."""
+    if t in ast.NUMERIC:
+        return ()
+    if isinstance(t, ast.ProductType) and len(set(t.parts)) == 1:
+        inner = _dims(t.parts[0])
+        if inner is not None and len(inner) < 2:
+            return (len(t.parts), *inner)
+    return None
+
+
+def _part(p: Pos, e: ast.Expr, k: int) -> ast.Expr:
+    """Part `k` of a tuple-typed expression (a literal's item itself)."""
+    if isinstance(e, ast.TupleLiteral):
+        return e.items[k - 1]
+    assert isinstance(e.type, ast.ProductType)
+    return ast.Index(e.type.parts[k - 1], p, e, ast.Literal(NAT, p, k))
+
+
+def _tuple_type(items: list[ast.Expr]) -> ast.ProductType:
+    return ast.ProductType(tuple(x.type for x in items))
+
+
+def _elementwise(p: Pos, t: ast.Type, item: Callable[[int], ast.Expr]) -> ast.Expr:
+    assert isinstance(t, ast.ProductType)
+    items = [item(k) for k in range(1, len(t.parts) + 1)]
+    return ast.TupleLiteral(_tuple_type(items), p, tuple(items))
+
+
+def _arith(p: Pos, op: str, a: ast.Expr, b: ast.Expr) -> ast.Expr:
+    t = ast.numeric_join(a.type, b.type)
+    return ast.Binary(ast.INT if op == "-" and t == NAT else t, p, op, a, b)
+
+
+def _neg(p: Pos, e: ast.Expr) -> ast.Expr:
+    if _dims(e.type):
+        return _elementwise(p, e.type, lambda k: _neg(p, _part(p, e, k)))
+    return ast.Unary(ast.INT if e.type == NAT else e.type, p, "-", e)
+
+
+def _pointwise(p: Pos, op: str, a: ast.Expr, b: ast.Expr) -> ast.Expr:
+    if not _dims(a.type):
+        return _arith(p, op, a, b)
+    return _elementwise(p, a.type, lambda k: _pointwise(p, op, _part(p, a, k), _part(p, b, k)))
+
+
+def _scaled(p: Pos, scalar: ast.Expr, shaped: ast.Expr) -> ast.Expr:
+    if not _dims(shaped.type):
+        return _arith(p, "*", scalar, shaped)
+    return _elementwise(p, shaped.type, lambda k: _scaled(p, scalar, _part(p, shaped, k)))
+
+
+def _dot(p: Pos, xs: list[ast.Expr], ys: list[ast.Expr]) -> ast.Expr:
+    total = _arith(p, "*", xs[0], ys[0])
+    for x, y in zip(xs[1:], ys[1:], strict=True):
+        total = _arith(p, "+", total, _arith(p, "*", x, y))
+    return total
+
+
+def as_set(e: ast.Expr) -> ast.Expr:
+    """An interval `[a, b]` given where a set is expected (`union([331, 359], [0, 30])`): the set
+    of the integers it holds (RoboChart's `RangeExp`, which `wait` reads as an interval)."""
+    if not isinstance(e, ast.Interval) or e.type not in (NAT, ast.INT):
+        return e
+    return ast.Builtin(ast.SetType(e.type), e.pos, "interval",
+                       (e.low, e.high, ast.Literal(BOOLEAN, e.pos, e.low_closed), ast.Literal(BOOLEAN, e.pos, e.high_closed)))
+
+
+def function_value(f: ast.Function, p: Pos) -> ast.Lambda:
+    """A declared function named as a value (`override(add, …)`): `lambda x : T, … @ f(x, …)`."""
+    domain = f.parameters[0].type if len(f.parameters) == 1 else ast.ProductType(tuple(q.type for q in f.parameters))
+    args = tuple(ast.VarRef(q.type, p, q) for q in f.parameters)
+    return ast.Lambda(ast.FunctionType(domain, f.result), p, f.parameters, None, ast.Call(f.result, p, f, args))
 
 
 def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:
@@ -764,6 +1037,20 @@ def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
     if op in ("in", "notin"):
         if isinstance(b, ast.SetType) and ast.comparable(b.element, a):
             return BOOLEAN
+        return None
+    if op in ("min", "max"):  # sequence_toolkit's, on a set of numbers: its least (greatest) member
+        return a.element if isinstance(a, ast.SetType) and a.element in ast.NUMERIC else None
+    if op == "extract":  # the items of `b` at the indices in `a`, in order (Z's extraction)
+        if isinstance(a, ast.SetType) and a.element in (NAT, ast.INT) and isinstance(b, ast.SeqType):
+            return b
+        return None
+    if op == "override":  # relation_toolkit's `r ⊕ s`: `s`'s pairs, and `r`'s outside dom(s)
+        if isinstance(a, ast.FunctionType) and isinstance(b, ast.SetType) and \
+                ast.assignable(ast.SetType(ast.ProductType((a.domain, a.range))), b):
+            return a
+        if isinstance(a, ast.SetType) and isinstance(b, ast.SetType) and isinstance(a.element, ast.ProductType) \
+                and len(a.element.parts) == 2 and ast.assignable(a, b):
+            return a
         return None
     return None
 

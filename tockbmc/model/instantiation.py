@@ -280,6 +280,10 @@ def value(d: Definition, node: Node, t: ast.Type) -> ast.Expr:
 # ----------------------------------------------------------------------------- functions
 
 _OPS = {"and_": "and", "or_": "or"}
+# RoboTool's bounded arithmetic helpers of instantiations.csp (`Plus(e1, e2, T)`), by name: the
+# operator and how many operands come before the type argument.
+_BOUNDED_ARITHMETIC = {"Plus": ("+", 2), "Minus": ("-", 2), "Mult": ("*", 2), "Div": ("/", 2),
+                       "Modulus": ("%", 2), "Neg": ("neg", 1)}
 _MAX_INLINE = 16
 
 
@@ -410,6 +414,21 @@ class FunctionBody:
             if not (isinstance(head, Tree) and head.data == "name"):
                 raise NotUnderstood(pos, "only named functions are applied")
             name = str(head.children[0])
+            if name in _BOUNDED_ARITHMETIC and len(args) == _BOUNDED_ARITHMETIC[name][1] + 1:
+                # RoboTool's bounded arithmetic `Plus(a, b, core_nat)`: tockbmc's is exact
+                # (docs/semantics.md §6.5), so the type argument is dropped, as the helpers are.
+                operands = [self.expr(d, a, env, depth) for a in args[:-1]]
+                for x in operands:
+                    _numeric(x, pos)
+                op = _BOUNDED_ARITHMETIC[name][0]
+                if op == "neg":
+                    [x] = operands
+                    return ast.Unary(ast.INT if x.type == ast.NAT else x.type, pos, "-", x)
+                left, right = operands
+                rtype = ast.numeric_join(left.type, right.type)
+                if op == "-" and rtype == ast.NAT:
+                    rtype = ast.INT
+                return ast.Binary(rtype, pos, op, left, right)
             values = [self.expr(d, a, env, depth) for a in args]
             if name in self.functions:
                 f = self.functions[name]
