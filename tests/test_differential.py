@@ -50,7 +50,7 @@ def _settings(default: int) -> settings:
                     suppress_health_check=[HealthCheck.too_slow])
 
 
-@_settings(8)
+@_settings(6)
 @given(cases(machine_text))
 def test_engines_agree_on_random_machines(case: tuple[str, str]) -> None:
     _agree(*case)
@@ -71,7 +71,7 @@ def test_engines_agree_on_random_machines_against_specifications(case: tuple[str
 
 
 # Sequences, sets and tuples in variables, an input sequence, guards and updates (issue 15).
-@_settings(3)
+@_settings(2)
 @given(cases(data_machine_text))
 def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> None:
     _agree(*case, ranges=_cases.DATA_RANGES)
