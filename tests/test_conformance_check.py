@@ -200,3 +200,9 @@ def test_unsupported_results_name_their_reason() -> None:
     for key, (verdict, reason) in results().items():
         if verdict == "unsupported":
             assert reason, key
+
+
+def test_clock_initialisation_is_unsupported_and_says_so() -> None:
+    """It used to be reported as "'…::Cl' is an operation", the message for an element it could not find."""
+    verdict, why = results()[("clocks5", "C1")]
+    assert verdict == "unsupported" and why.startswith("clock initialisation"), why

@@ -79,6 +79,9 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if a.semantic_model == TICK_TOCK and a.kind in ("refines", "equals") and not timed:
         raise Unsupported(None, "the tick-tock model records refusals before each tock, and RoboTool's untimed "
                                 "semantics has no tock")
+    if a.kind == "clock-initialised":
+        raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
+                                "read before `#C` first resets it) is not checked yet")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
