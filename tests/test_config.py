@@ -398,3 +398,56 @@ def test_each_instance_of_a_machine_has_its_own_constants(tmp_path: Path, source
         assert r["verdict"] == "holds", (engine, r)
         assert (r["constants"]["stm_ref0::CC"], r["constants"]["stm_ref1::CC"]) == ("Value::VB", "Value::VC")
         assert "I::CC" not in r["constants"], r["constants"]  # every instance has its own: not shown
+
+
+REQUIRED = """
+interface I { const CC : int }
+controller ctrl0 {
+  provides I
+  event e1 : int
+  sref stm_ref0 = STM
+  connection stm_ref0 on e to ctrl0 on e1
+}
+stm STM {
+  event e : int
+  requires I
+  initial i0
+  final f0
+  transition t0 { from i0 to f0 action e!CC }
+}
+csp Spec csp-begin
+Spec = tock -> Spec [] ctrl0::e1.out.1 -> Spec [] ctrl0::terminate -> SKIP
+csp-end
+assertion A: ctrl0 refines Spec in the traces model with constant CC of ctrl0::stm_ref0 set to 1.
+"""
+
+
+def test_a_required_constant_named_through_an_instance_is_the_controllers(tmp_path: Path) -> None:
+    """The machine requires CC, which its controller provides: one constant, whichever path names it.
+    Stored as the instance's alone, BMC used the default 0 and the interpreter 1 (a replay failure)."""
+    write_files(tmp_path, {"m.rct": REQUIRED.split("csp Spec")[0], "m.assertions": "csp Spec" + REQUIRED.split("csp Spec")[1]})
+    for engine in ("bmc", "explicit"):
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--range", "core_int=-1..1", "--format", "json"])
+        assert out.exit_code == 0, out.output
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "holds" and r["constants"] == {"I::CC": "1"}, (engine, r)
+
+
+def test_open_constants_of_two_instances_are_two_parameters(tmp_path: Path) -> None:
+    """`--param` on a constant two instances use: each instance takes its own value, in BMC's run, in
+    its replay (which used to give both the second's value and fail) and in explore's parameters."""
+    spec = ("csp Spec csp-begin\nSpec = tock -> Spec [] ctrl0::e1.out.0 -> A0 [] ctrl0::e1.out.1 -> A1 "
+            "[] ctrl0::e2.out.0 -> A0 [] ctrl0::e2.out.1 -> A1\n"
+            "A0 = tock -> A0 [] ctrl0::e1.out.0 -> A0 [] ctrl0::e2.out.0 -> A0 [] ctrl0::terminate -> SKIP\n"
+            "A1 = tock -> A1 [] ctrl0::e1.out.1 -> A1 [] ctrl0::e2.out.1 -> A1 [] ctrl0::terminate -> SKIP\n"
+            "csp-end\nassertion A: ctrl0 refines Spec in the traces model.\n")
+    write_files(tmp_path, {"m.rct": TWO_INSTANCES.replace("Value", "int").replace("enumeration int { VA VB VC }", ""),
+                           "m.assertions": spec})
+    for engine in ("bmc", "explicit"):  # the two outputs differ: Spec allows only equal values
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--range", "core_int=0..1", "--param", "I::CC",
+                       "--format", "json"])
+        assert out.exit_code == 10, out.output
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "violated" and (engine == "explicit" or r["replayed"] == "yes"), (engine, r)
+    out = run_cli(["explore", str(tmp_path), "--range", "core_int=0..1", "--format", "json"])
+    assert "stm_ref0::CC" in out.stdout and "stm_ref1::CC" in out.stdout, out.output

@@ -163,7 +163,9 @@ def default_jobs() -> int:
               help="Bound a type (core_int, core_nat, core_real, a model type) or a path (EXAX::move.time); "
                    "NAME=unbounded lifts it.")
 @click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE",
-              help="Give a constant a value (NAME: n, UR::n, main::ctrl::ur_ref::n, …); overrides the instantiation.")
+              help="Give a constant a value (NAME: n, UR::n, main::ctrl::ur_ref::n, …); overrides the instantiation. "
+                   "A path names the declaration: every instance of the machine gets the value (one instance's "
+                   "own value: `with constant … of ctrl::stm_ref` or the instantiation).")
 @click.option("--param", "param_specs", multiple=True, metavar="NAME",
               help="Make a constant without a value a parameter: every value of its type and range is considered.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,

@@ -14,7 +14,7 @@ from tockbmc.encodings.system import Move, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves, parts
 from tockbmc.model import ast
-from tockbmc.model.config import declaration_key
+from tockbmc.model.config import declaration_key, instance_key
 from tockbmc.model.data import Product, text_of
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.numbers import real_text
@@ -138,6 +138,8 @@ def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
             value = system.constants[c].get(id(v))
             if value is not None:  # keyed by declaration, as the configuration keys constants
                 out[declaration_key(v)] = python_value(value, model, v.type)
+                if comp.instance and not (v.kind == "interface" and (c, v.name) in system.network.scopes):
+                    out[instance_key(comp.instance, v)] = out[declaration_key(v)]  # this instance's own
     for base, (t, initial, _c, _key) in system.initial.items():
         if initial is None:
             out[base] = python_value(u.value_at(system.value(base, t), 0), model, t)

@@ -327,7 +327,9 @@ class TransitionSystem:
             self.constraints.append(equal(value, Evaluator({}, {}, self.side, ranges=self.ranges).value(expr)))
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
-            self.open_constants.setdefault(declaration_key(decl), value)
+            # one parameter per instance of a machine's own constant (`stm_ref0::CC`), as its values are
+            self.open_constants.setdefault(f"{'::'.join(instance)}::{v.name}" if instance else declaration_key(decl),
+                                           value)
         return value
 
     # ------------------------------------------------------------ moves

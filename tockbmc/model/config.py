@@ -334,9 +334,12 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
         return tuple(f"const_{p}_{v.name}" for p in dict.fromkeys(prefixes))
 
     def behaviour(b: ast.Behaviour, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
+        required = set(b.required_interfaces)
         for v in constants_of(project, b):
+            # a required interface's constant is its controller's (one per name), not the instance's
+            shared = v.kind == "interface" and (v.owner in required or v.owner.rsplit("::", 1)[-1] in required)
             out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef),
-                             instance))
+                             () if shared else instance))
 
     def controller(c: ast.Controller, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
         ps = [*prefixes, inst.mangle(c.qname)]
