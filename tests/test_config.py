@@ -451,3 +451,16 @@ def test_open_constants_of_two_instances_are_two_parameters(tmp_path: Path) -> N
         assert r["verdict"] == "violated" and (engine == "explicit" or r["replayed"] == "yes"), (engine, r)
     out = run_cli(["explore", str(tmp_path), "--range", "core_int=0..1", "--format", "json"])
     assert "stm_ref0::CC" in out.stdout and "stm_ref1::CC" in out.stdout, out.output
+
+
+def test_a_negative_constant_reaches_the_explicit_engine(tmp_path: Path) -> None:
+    """`set to -1` is a negated literal; the explicit engine called it "not a literal" (unsupported)."""
+    write_files(tmp_path, {"m.rct": "stm M {\n  const k : int\n  event e : int\n  initial i\n  final f\n"
+                                    "  transition t0 { from i to f action e!k }\n}\n",
+                           "m.assertions": "csp Spec csp-begin\nSpec = tock -> Spec [] M::e.out.(-1) -> Spec "
+                                           "[] M::terminate -> SKIP\ncsp-end\n"
+                                           "assertion A: M refines Spec with constant k of M set to -1.\n"})
+    for engine in ("bmc", "explicit"):
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--range", "core_int=-1..1", "--format", "json"])
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "holds", (engine, r)

@@ -77,6 +77,9 @@ def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.RecordLiteral):
             return {f: python(name, v) for f, v in e.fields}  # a Record once the interpreter coerces it
+        if isinstance(e, ast.Unary) and e.op == "-" and isinstance(e.operand, ast.Literal) \
+                and isinstance(e.operand.value, (int, Fraction)) and not isinstance(e.operand.value, bool):
+            return -e.operand.value  # `set to -1` is a negated literal in the grammar
         raise Unsupported(None, f"the value given to constant {name} is not a literal")
 
     return {name: python(name, e) for name, e in settings.items()}
