@@ -138,7 +138,7 @@ def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
             value = system.constants[c].get(id(v))
             if value is not None:  # keyed by declaration, as the configuration keys constants
                 out[declaration_key(v)] = python_value(value, model, v.type)
-                if comp.instance and not (v.kind == "interface" and (c, v.name) in system.network.scopes):
+                if comp.instance and system.shared_key(c, v) is None:
                     out[instance_key(comp.instance, v)] = out[declaration_key(v)]  # this instance's own
     for base, (t, initial, _c, _key) in system.initial.items():
         if initial is None:

@@ -137,9 +137,8 @@ class _Flattener:
         enclosing element declares is shared by the controller's machines.
         """
         inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope]
-        own = (*m.provided_interfaces, *m.used_interfaces)
         for v in (*m.interface_variables, *inlined):
-            if v.owner in own or v.owner.rsplit("::", 1)[-1] in own:
+            if ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces)):
                 continue
             key = f"{controller}.{v.name}"
             if key not in self.shared and v.name in self.platform:

@@ -16,6 +16,7 @@ these terms at step k; this module never names a step other than the template.
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Protocol
@@ -39,7 +40,7 @@ from tockbmc.encodings.values import (
     sort_of,
 )
 from tockbmc.model import ast
-from tockbmc.model.config import constant_setting, declaration_key, instance_key
+from tockbmc.model.config import constant_setting, declaration_key, instance_key, instance_name
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
 
@@ -291,7 +292,7 @@ class TransitionSystem:
                 if v.type == ast.STRING:
                     raise Unsupported(v.pos, "string variables are not encoded yet")
                 # A required variable is shared under its scope key; anything else is the machine's own.
-                key = self.network.scopes.get((c, v.name)) if v.kind == "interface" else None
+                key = self.shared_key(c, v)
                 decl = self.network.shared.get(key, v) if key is not None else v
                 if v.constant and v.kind != "parameter":  # parameters of inlined operations are assigned
                     if key is not None and key in shared_consts:
@@ -317,6 +318,10 @@ class TransitionSystem:
                 if t is not None:
                     self._scalars(names.buffer_value(link.index), t)
 
+    def shared_key(self, c: int, v: ast.Variable) -> str | None:
+        """The scope key under which component c shares a variable or constant it requires, if it does."""
+        return self.network.scopes.get((c, v.name)) if v.kind == "interface" else None
+
     def _constant(self, v: ast.Variable, decl: ast.Variable, name: str, instance: tuple[str, ...] = ()) -> Value:
         value = fresh(name, v.type)
         # this instance's value, else the declaration's (model/config.py)
@@ -328,8 +333,7 @@ class TransitionSystem:
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
             # one parameter per instance of a machine's own constant (`stm_ref0::CC`), as its values are
-            self.open_constants.setdefault(f"{'::'.join(instance)}::{v.name}" if instance else declaration_key(decl),
-                                           value)
+            self.open_constants.setdefault(instance_name(instance, v) if instance else declaration_key(decl), value)
         return value
 
     # ------------------------------------------------------------ moves
@@ -397,9 +401,7 @@ class TransitionSystem:
                        for c, comp in enumerate(self.components)]
         if not all(per_machine):
             return []  # a machine without a final state never terminates, so neither does the element
-        count = 1
-        for edges in per_machine:
-            count *= len(edges)
+        count = math.prod(len(edges) for edges in per_machine)
         if count > _MAX_TERMINATIONS:
             raise Unsupported(self.components[0].machine.pos,
                               f"{count} combinations of final states end the element: more than "
@@ -726,8 +728,9 @@ class TransitionSystem:
         return self._footprint(m)
 
     def _footprint(self, m: Move) -> tuple[set[str], set[str]]:
-        """The scalars a move reads and those it writes.  Not reading `halted()`: no internal move
-        makes a machine terminate (termination is a visible event), so it cannot change under one."""
+        """The scalars a move reads and those it writes.  Not reading `halted()`: only the element's
+        `terminate` changes it (internal in a module), and that move writes every machine's location,
+        so every other move depends on it anyway."""
         eff = self.effect(m)
         assert eff.enabled and eff.enabled[0].eq(z3.Not(self.halted())), "the first condition is 'not halted'"
         slot_of = {self.cur[n].get_id(): n for n in self.sorts}

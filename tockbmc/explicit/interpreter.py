@@ -918,8 +918,7 @@ class Interpreter:
         """A variable or constant of an interface the machine provides or uses is its own, one per
         instance (RoboTool: `const_test12_ctrl0_stm_ref0_CC`); a required one is its controller's."""
         m = self.insts[i].machine
-        own = (*m.provided_interfaces, *m.used_interfaces)
-        return var.owner in own or var.owner.rsplit("::", 1)[-1] in own
+        return ast.in_interfaces(var, (*m.provided_interfaces, *m.used_interfaces))
 
     def _slot(self, i: int, var: ast.Variable) -> int:
         s = self._slot_of.get(self._vkey(i, var))

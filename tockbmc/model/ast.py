@@ -8,6 +8,7 @@ that later layers can point back at the model text.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -229,6 +230,12 @@ def numeric_join(a: Type, b: Type) -> Type:
         return ERROR
     order = {NAT: 0, INT: 1, REAL: 2}
     return a if order[a] >= order[b] else b  # type: ignore[index]
+
+
+def in_interfaces(v: Variable, interfaces: Iterable[str]) -> bool:
+    """Whether `v` is declared by one of `interfaces`, named qualified or by their short names."""
+    names = set(interfaces)
+    return v.owner in names or v.owner.rsplit("::", 1)[-1] in names
 
 
 def assignable(target: Type, value: Type) -> bool:

@@ -315,6 +315,11 @@ def instance_key(instance: tuple[str, ...], v: ast.Variable) -> str:
     return f"{'::'.join(instance)}/{declaration_key(v)}"
 
 
+def instance_name(instance: tuple[str, ...], v: ast.Variable) -> str:
+    """How results name one instance's constant: `stm_ref0::CC`."""
+    return f"{'::'.join(instance)}::{v.name}"
+
+
 def _instances_named(setting: ast.ConstantSetting, element: Checked, slots: list[_Slot]) -> list[_Slot]:
     """The constants `with constant c of P` sets when P is an instance path inside the checked
     element (`ctrl0::stm_ref0` for controller `ctrl0`), one instance's constant each."""
@@ -334,10 +339,9 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
         return tuple(f"const_{p}_{v.name}" for p in dict.fromkeys(prefixes))
 
     def behaviour(b: ast.Behaviour, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
-        required = set(b.required_interfaces)
         for v in constants_of(project, b):
             # a required interface's constant is its controller's (one per name), not the instance's
-            shared = v.kind == "interface" and (v.owner in required or v.owner.rsplit("::", 1)[-1] in required)
+            shared = v.kind == "interface" and ast.in_interfaces(v, b.required_interfaces)
             out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef),
                              () if shared else instance))
 
@@ -647,7 +651,7 @@ class Configuration:
         for (path, key), entry in per_instance.items():
             assert entry.value is not None
             constants[instance_key(path, declared[key])] = entry.value
-            shown = f"{'::'.join(path)}::{declared[key].name}"
+            shown = instance_name(path, declared[key])
             described[shown] = describe_value(entry.value)
             sources[shown] = str(entry.source)
         return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources)
