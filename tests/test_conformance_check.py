@@ -46,6 +46,15 @@ UNDECIDED = {
                       "it has more than 256 traces of 6 events (the bound's half); only 3 could be listed "
                       "(before the values were listed, its traces could not be, and the assertion was unsupported)",
     ("test4", "a4b"): "as a4a, timed_spec4",
+    ("clocks6", "A0"): "MSpec reads the time it receives (`time.in?t -> WAIT(t + Mult(t,2,core_nat) - t + t)`), "
+                       "listed value by value; M performs MSpec's traces in more than 12 steps (the explicit engine: "
+                       "holds; BMC at bound 40 runs out of time on the model's side)",
+    ("clocks7", "A0"): "as clocks6 A0",
+    ("test13", "C0"): "CTSpec reads the value it receives (`In.in?y -> Out.out!Plus(y,1,core_nat)`), listed value "
+                      "by value; its traces with tocks are too many to list (unknown at bound 40 too)",
+    ("test13", "M0"): "as test13 C0",
+    ("test13", "UC0"): "untimed: UCTSpec's traces (81) need more than 12 steps of CT; holds at bound 40 with 60 s",
+    ("test13", "UM0"): "as test13 UC0",
     ("clocks4-required", "A2"): "tick-tock, Spec on the left: Mod makes Spec's observations (five tocks, two "
                                 "outputs) in more than 20 steps; holds at the default bound 40 (both engines; "
                                 "the explicit engine at this bound too)",

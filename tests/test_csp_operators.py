@@ -270,7 +270,6 @@ assertion AU: M refines PU in the traces model.
     expect(rs["AU"], "violated", ["tock"])
 
 
-@pytest.mark.xfail(strict=True, reason="a specification that reuses a received value (c?x -> e!x) needs data in the monitor; reported unsupported")
 def test_input_prefix_binds_value(tmp_path) -> None:
     """§4 `c?x -> P` with core_int = -1..1. M echoes its input: tock* M::c.in.v tock* M::e.out.v
     tock*.

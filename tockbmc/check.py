@@ -122,6 +122,8 @@ class _Check:
             network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
+            if q.context is not None:  # a specification's input read later is told apart value by value
+                q.context.sem.values = _values_of(q, self.ranges, consts)
             if q.determinism:
                 return self.deterministic(q, network, consts)
             for goal in q.goals:
@@ -311,7 +313,6 @@ class _Check:
             return TransitionSystem(network, self.ranges, consts, context=Following(context, follower))
 
         failures = self.a.semantic_model if self.a.semantic_model in (*FAILURES_MODELS, TICK_TOCK) else None
-        context.sem.values = _values_of(q, self.ranges, consts)
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
                        progress=self.progress, refusals=failures)
         if self.a.negated:
@@ -337,11 +338,19 @@ def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callabl
 
     assert q.context is not None
     literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
-    try:
-        interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed)
-    except (NotInterpretable, Unsupported):
-        return lambda prefix: None
-    return channel_values(interp, q.element, literals)
+    made: list[Callable[[tuple], list[tuple] | None]] = []
+
+    def values(prefix: tuple) -> list[tuple] | None:
+        if not made:  # the interpreter is built when a specification first asks
+            try:
+                interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined),
+                                     timed=q.timed)
+                made.append(channel_values(interp, q.element, literals))
+            except (NotInterpretable, Unsupported):
+                made.append(lambda prefix: None)
+        return made[0](prefix)
+
+    return values
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,

@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 
 import z3
 
-from tockbmc.bmc.engine import Progress, Status, bmc
-from tockbmc.encodings.system import TransitionSystem
+from tockbmc.bmc.engine import Outcome, Progress, Status, bmc
+from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.result import TraceStep, Verdict
 from tockbmc.properties.deadlock import may_diverge
@@ -58,6 +58,18 @@ def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Call
     return t
 
 
+def _performs(system: TransitionSystem, target: Target, bound: int, timeout: Callable[[], float | None],
+              progress: Progress | None) -> Outcome:
+    """Whether the element can perform what the specification does (reach `target`): searched first
+    without trying k-induction at each depth, since the element usually can and the proofs are most
+    of the cost; only a search that finds nothing is repeated with k-induction, which may show that
+    no number of steps reaches it."""
+    quick = bmc(system, target, bound, timeout(), induction=False, progress=progress)
+    if quick.status == Status.FOUND or (quick.status == Status.UNKNOWN and "timed out" in (quick.reason or "")):
+        return quick
+    return bmc(system, target, bound, timeout(), induction=True, progress=progress)
+
+
 def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, bound: int,
              timeout: Callable[[], float | None], cap: int = 256, progress: Progress | None = None,
              refusals: str | None = None) -> Inclusion:
@@ -78,7 +90,7 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {cap} traces of {wanted} events; only those "
                                           f"of up to {length} events could be listed, which gives no verdict")
     for t in traces:
-        outcome = bmc(_following(make, t), followed, bound, timeout(), induction=True, progress=progress)
+        outcome = _performs(_following(make, t), followed, bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         if outcome.status == Status.PROVED:
@@ -124,7 +136,7 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
         def target(s: TransitionSystem, r: SpecRefusal = r) -> z3.BoolRef:
             return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
 
-        outcome = bmc(system, target, bound, timeout(), induction=True, progress=progress)
+        outcome = _performs(system, target, bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         shown = [_event_text(e) for e in r.events]
@@ -174,7 +186,7 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
             return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None else followed(s)
 
         ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
-        outcome = bmc(system_for(o, ticks), target, bound, timeout(), induction=True, progress=progress)
+        outcome = _performs(system_for(o, ticks), target, bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         steps = observation_steps(o, channels, spec_name, ticks)

@@ -133,10 +133,14 @@ class _Flattener:
         """Bind the variables machine c requires to its controller's, else the platform's (docs/semantics.md §5.5).
 
         A variable of an interface the machine provides or uses is its own (RoboTool names a used
-        interface's constant after the instance: `const_test12_ctrl0_stm_ref0_CC`).  One that no
+        interface's constant after the instance: `const_test12_ctrl0_stm_ref0_CC`), and so is one an
+        operation it calls requires when the machine declares a variable of that name (test13).  One that no
         enclosing element declares is shared by the controller's machines.
         """
-        inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope]
+        # An inlined operation's required variable is the machine's own when the machine declares
+        # it (it then has the machine's slot: the same name in the same scope).
+        local = {v.name for v in m.variables}
+        inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope and v.name not in local]
         for v in (*m.interface_variables, *inlined):
             if ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces)):
                 continue

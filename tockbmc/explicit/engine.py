@@ -128,6 +128,8 @@ class Search:
         if q.context is not None and q.context.spec is not None:
             try:
                 q.context.sem.alphabet = element_alphabet(q.element)
+                q.context.sem.values = channel_values(interp, q.element,
+                                                      {v.text: v for v in q.context.sem.evaluator.literals.values()})
                 self.monitor = Monitor(q.context.sem, q.context.spec, [])
             except TooLarge:
                 raise Unsupported(None, "the specification has too many states") from None

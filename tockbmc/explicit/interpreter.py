@@ -908,6 +908,10 @@ class Interpreter:
         return s
 
     def _vkey(self, i: int, var: ast.Variable) -> tuple:
+        if var.kind == "interface":  # an operation's required variable is the calling machine's, if it declares it
+            local = next((v for v in self.insts[i].machine.variables if v.name == var.name), None)
+            if local is not None:
+                return self._vkey(i, local)
         if var.kind == "interface" and self._own_interface(i, var):
             return ("v", i, "#iface", var.name)
         if var.kind == "interface" or var.owner in self._shared_owners:
@@ -1004,6 +1008,9 @@ class Interpreter:
                     di = self._beh(d, True)
                     if di in stack or di == bi:
                         raise NotInterpretable(st.pos, f"recursive operation {d.name}")
+                    given = ast.provided_by_caller(b, d)
+                    if given is not None:
+                        raise NotInterpretable(st.pos, ast.CALLER_PROVIDES.format(op=d.name, v=given.name, caller=b.name))
                     self._scan(i, di, [*stack, bi])
 
     def _clock_caps(self) -> dict[int, int]:

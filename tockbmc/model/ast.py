@@ -238,6 +238,20 @@ def in_interfaces(v: Variable, interfaces: Iterable[str]) -> bool:
     return v.owner in names or v.owner.rsplit("::", 1)[-1] in names
 
 
+CALLER_PROVIDES = ("operation {op} requires variable {v}, which {caller}, the operation calling it, declares; "
+                   "a required variable provided by a calling operation is not supported yet")
+
+
+def provided_by_caller(caller: Behaviour, op: Behaviour) -> Variable | None:
+    """A variable `op` requires that the operation calling it declares (RoboChart: the caller
+    provides it), which neither engine resolves yet; None if there is none.  A machine that
+    declares a variable an operation it calls requires provides it: both engines resolve that."""
+    if not isinstance(caller, OperationDef):
+        return None
+    declared = {v.name for v in (*caller.variables, *caller.parameters) if not v.constant}
+    return next((v for v in op.interface_variables if v.name in declared and not v.constant), None)
+
+
 def assignable(target: Type, value: Type) -> bool:
     """Whether a value of type `value` may be stored where `target` is expected.
 

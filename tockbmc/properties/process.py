@@ -100,7 +100,14 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
         return implementation(ev, c[1] if ev.boolean(c[0], env) else c[2], env, seen)
     if k in ("hide", "project", "parallel", "seq", "prefix"):
         inner_t = c[1] if k == "prefix" else c[0]
-        inner = implementation(ev, inner_t, env, seen)
+        try:
+            inner = implementation(ev, inner_t, env, seen)
+        except CspError:
+            if k != "prefix":
+                raise
+            # What follows reads the prefix's inputs (`c?x -> e!x -> …`), unbound in this walk: a
+            # specification term, evaluated as it is reached (a model process in it is refused then).
+            return ev.proc(t, env)
         if not isinstance(inner, Implementation):
             return ev.proc(t, env)
         if k in ("hide", "project"):

@@ -82,7 +82,7 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if a.kind == "clock-initialised":
         raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
                                 "read before `#C` first resets it) is not checked yet")
-    ev = Evaluator(_top_level(project), _any_block(project), _literals(project))
+    ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _variable_names(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
@@ -391,6 +391,15 @@ def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
         return None
 
     return lookup
+
+
+def _variable_names(project: ast.Project) -> frozenset[str]:
+    """Every variable name the model declares (RoboTool names channels after them: `set_x`)."""
+    groups: tuple[tuple[ast.Variable, ...], ...] = (
+        *(h.variables for h in project.interfaces), *(h.variables for h in project.platforms),
+        *(h.variables for h in project.machines), *(h.variables for h in project.controllers),
+        *(h.variables for h in project.operations))
+    return frozenset(v.name for g in groups for v in g)
 
 
 def _literals(project: ast.Project) -> dict[str, EnumValue]:

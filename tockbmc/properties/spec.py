@@ -16,6 +16,7 @@ for every other value (`OTHER`).
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -53,9 +54,12 @@ class EnumValue:
 
 @dataclass(frozen=True)
 class Input:
-    """`?x` in a prefix: binds x to the field's value."""
+    """`?x` in a prefix: binds x to the field's value.  `used`: what follows the prefix reads x, so
+    the monitor tells every value of the field apart where the channel's values are few
+    (`Semantics.field_values`), instead of one class for the values the specification never names."""
 
     name: str
+    used: bool = False
 
 
 class Any_:
@@ -277,10 +281,11 @@ class Evaluator:
     """Evaluates CSP expressions; `lookup_top` finds top-level definitions by name."""
 
     def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
-                 literals: dict[str, EnumValue] | None = None):
+                 literals: dict[str, EnumValue] | None = None, variables: frozenset[str] = frozenset()):
         self.lookup_top = lookup_top
         self.block = block
         self.literals = literals or {}
+        self.variables = variables  # the model's variable names: RoboTool's `set_x`/`get_x` channels
 
     def error(self, node: Tree | Token, what: str) -> CspError:
         return CspError(pos_of(self.block, node), what)
@@ -340,7 +345,9 @@ class Evaluator:
             x, op, y = self.number(c[0], env), str(c[1]), self.number(c[2], env)
             if op in "/%" and y == 0:
                 raise self.error(t, "division by zero")
-            return {"+": x + y, "-": x - y, "*": x * y, "/": _div(x, y), "%": x % y}[op]
+            if op in "/%":
+                return _div(x, y) if op == "/" else x % y
+            return {"+": x + y, "-": x - y, "*": x * y}[op]
         if k == "negate":
             return -self.number(c[0], env)
         if k == "if_":
@@ -351,7 +358,7 @@ class Evaluator:
         if k == "apply":
             return self.apply(t, env)
         if k == "prefix":
-            return Prefix(self.pattern(c[0], env), c[1], env, env.timed)
+            return Prefix(self.pattern(c[0], env, _names_in(c[1])), c[1], env, env.timed)
         if k == "guard":
             return self.proc(c[1], env) if self.boolean(c[0], env) else Stop(env.timed)
         if k in ("external", "internal", "seq", "interrupt", "timeout"):
@@ -403,6 +410,13 @@ class Evaluator:
         if literal is not None:
             return literal
         if "::" in name:
+            memory = _MEMORY_CHANNEL.fullmatch(name.rsplit("::", 1)[-1])
+            if memory is not None and memory.group(2) in self.variables:
+                raise self.error(tok, f"'{name}' is RoboTool's channel for "
+                                      f"{'reading' if memory.group(1) == 'get' else 'writing'} variable "
+                                      f"{memory.group(2)}; tockbmc's semantics has no events for variable reads "
+                                      "and writes (docs/semantics.md §2), so a specification naming one is not "
+                                      "supported")
             return (canonical(name),)
         raise self.error(tok, f"unknown name '{name}'")
 
@@ -422,12 +436,14 @@ class Evaluator:
         name = str(head.children[0])
         if name.endswith("::D__") or name.endswith("::O__"):
             return ModelProcess(name[:-5], tuple(self.eval(a, env) for a in args_t), t)
-        args = tuple(self.eval(a, env) for a in args_t)
         found = env.lookup(name)
+        top = self.lookup_top(name) if found is None else None
+        if found is None and top is None and name in _BOUNDED_ARITHMETIC and len(args_t) == _BOUNDED_ARITHMETIC[name] + 1:
+            return self.bounded_arithmetic(t, name, args_t[:-1], env)
+        args = tuple(self.eval(a, env) for a in args_t)
         if found is not None and found[0] == "def":
             d, denv = cast("tuple[Definition, Env]", found[1])
             return self._use(d, denv, args)
-        top = self.lookup_top(name) if found is None else None
         if top is not None:
             return self._use(top, Env({}, {}, top.timed), args)
         builtin = _BUILTINS.get(name)
@@ -437,6 +453,21 @@ class Evaluator:
             return builtin(env.timed, *args)
         except (TypeError, ValueError):
             raise self.error(t, f"wrong arguments for '{name}'") from None
+
+    def bounded_arithmetic(self, t: Tree, name: str, args_t: list, env: Env) -> int:
+        """RoboTool's `Plus(a, b, T)`, `Minus`, `Mult`, `Div`, `Modulus`, `Neg(a, T)`: its generated
+        instantiation keeps a result outside T at the first operand; tockbmc's model arithmetic is
+        exact (docs/semantics.md §6.5), and so is the specification's, the type argument unread, so
+        that a specification that repeats the model's computation computes what the model does."""
+        xs = [self.number(a, env) for a in args_t]
+        if name == "Neg":
+            return -xs[0]
+        x, y = xs
+        if name in ("Div", "Modulus") and y == 0:
+            raise self.error(t, "division by zero")
+        if name == "Div":
+            return _div(x, y)
+        return {"Plus": x + y, "Minus": x - y, "Mult": x * y, "Modulus": x % y if y else 0}[name]
 
     def replicated(self, t: Tree, env: Env) -> Proc:
         op, var, over, body = t.children
@@ -505,7 +536,8 @@ class Evaluator:
             raise self.error(t, "this value comes from an input the specification does not track")
         return v
 
-    def pattern(self, t: Tree, env: Env) -> tuple:
+    def pattern(self, t: Tree, env: Env, read: frozenset[str] = frozenset()) -> tuple:
+        """An event with its inputs (`?x`); `read` holds the names what follows the prefix reads."""
         c = t.children
         base = self.eval(c[0], env)
         if not isinstance(base, tuple):
@@ -514,7 +546,7 @@ class Evaluator:
         i = 1
         while i < len(c):
             kind, arg = str(c[i]), c[i + 1]
-            out.append(Input(str(arg)) if kind == "?" else self.field(arg, env))
+            out.append(Input(str(arg), str(arg) in read) if kind == "?" else self.field(arg, env))
             i += 2
         return tuple(out)
 
@@ -522,6 +554,23 @@ class Evaluator:
 def _div(a: int, b: int) -> int:
     q = abs(a) // abs(b)  # CSPM's `/` truncates towards zero
     return q if (a >= 0) == (b >= 0) else -q
+
+
+# RoboTool's channels for a variable's reads and writes (`M::set_reqx`), which tockbmc does not have.
+_MEMORY_CHANNEL = re.compile(r"(set|get|setL|setR)_(\w+)")
+# RoboTool's bounded arithmetic helpers, by the number of operands before the type argument.
+_BOUNDED_ARITHMETIC = {"Plus": 2, "Minus": 2, "Mult": 2, "Div": 2, "Modulus": 2, "Neg": 1}
+_NAMES_READ: dict[int, tuple[Tree | Token, frozenset[str]]] = {}
+
+
+def _names_in(t: Tree | Token) -> frozenset[str]:
+    """The names a process expression mentions (a prefix's inputs it may read), cached per tree."""
+    hit = _NAMES_READ.get(id(t))
+    if hit is not None and hit[0] is t:
+        return hit[1]
+    names = frozenset(str(n.children[0]) for n in t.find_data("name")) if isinstance(t, Tree) else frozenset()
+    _NAMES_READ[id(t)] = (t, names)
+    return names
 
 
 def _no_other(ev: Evaluator, t: Tree, *values: object) -> None:
@@ -676,18 +725,38 @@ class Semantics:
                 out += [(e, q) for q in self.after(p, e)]
         return out
 
+    def field_values(self, prefix: Event, j: int) -> list[object] | None:
+        """Every value of field j of the channel with these fixed fields, where the engine lists
+        them (`values`), else None."""
+        listed = self.values(prefix) if self.values is not None else None
+        return None if listed is None else list(dict.fromkeys(v[j] for v in listed))
+
+    def _listed_inputs(self, p: Prefix, e: Event) -> set[str]:
+        """The inputs of p read later whose every value is listed, on an input from outside (`….in`),
+        where the ranges bound what the model receives: for them `OTHER` stands for no value."""
+        for prefix, arity in self.alphabet:
+            if prefix[-1:] == ("in",) and len(e) == len(prefix) + arity and tuple(e[: len(prefix)]) == tuple(prefix):
+                return {x.name for j, x in enumerate(p.pattern[len(prefix):])
+                        if isinstance(x, Input) and x.used and self.field_values(prefix, j) is not None}
+        return set()
+
     def candidates(self, p: Proc, extra: Iterable[Event] = ()) -> set[Event]:
         """Concrete events that stand for all of p's possible moves: per alphabet channel, the
-        values p's terms (and `extra`) name in each field, `OTHER` elsewhere; events on channels
-        outside the alphabet as named; and `tock`."""
+        values p's terms (and `extra`) name in each field, every value of a field an input that is
+        read later receives (where they are listed), `OTHER` elsewhere; events on channels outside
+        the alphabet as named; and `tock`."""
         out: set[Event] = {TOCK}
         for e in set(self.mentions(p)) | set(extra):
             matched = False
             for prefix, arity in self.alphabet:
                 if _extends(e, prefix):
-                    vals = [OTHER if x is ANY or isinstance(x, Input) else x
-                            for x in e[len(prefix): len(prefix) + arity]]
-                    out.add((*prefix, *vals, *(OTHER,) * (arity - len(vals))))
+                    combos: list[tuple] = [()]
+                    for j, x in enumerate(e[len(prefix): len(prefix) + arity]):
+                        listed = self.field_values(prefix, j) if isinstance(x, Input) and x.used else None
+                        options = listed if listed is not None else [
+                            OTHER if x is ANY or isinstance(x, Input) else x]
+                        combos = [(*c, v) for c in combos for v in options]
+                    out.update((*prefix, *c, *(OTHER,) * (arity - len(c))) for c in combos)
                     matched = True
                 elif _extends(prefix, e):
                     matched = True  # `{| c |}` of a channel: the probe below stands for it
@@ -730,7 +799,7 @@ class Semantics:
             if tock and p.timed:
                 return [p]
             bound = _match(p.pattern, e)
-            if bound is None:
+            if bound is None or any(v is OTHER and k in self._listed_inputs(p, e) for k, v in bound.items()):
                 return []
             env = Env(bound, {}, p.env.timed, p.env) if bound else p.env
             return [self.evaluator.proc(p.then, env)]
@@ -772,8 +841,8 @@ class Semantics:
     def mentions(self, p: Proc) -> set[Event]:
         """Events (with values) that p's current terms name, so the monitor can tell them apart."""
         p = self.force(p)
-        if isinstance(p, Prefix):
-            return {tuple(ANY if isinstance(x, Input) else x for x in p.pattern)}
+        if isinstance(p, Prefix):  # an input read later stays, so its values can be told apart
+            return {tuple(ANY if isinstance(x, Input) and not x.used else x for x in p.pattern)}
         if isinstance(p, Lts):
             return {e for e, _n in p.graph.moves[p.node] if e is not None and e != TOCK}
         if isinstance(p, Run):
@@ -870,23 +939,29 @@ class Monitor:
         return state != self.DEAD and any(self.sem.ticks(p) for p in self.states[state])
 
     def fields(self, state: int, ch: Channel) -> list[list[object]]:
-        """Per value field of `ch`, the values the terms of `state` name there."""
+        """Per value field of `ch`, the values the terms of `state` name there, and every value of
+        a field whose input is read later, where the engine lists them (`Semantics.field_values`)."""
         out: list[set[object]] = [set() for _ in range(ch.arity)]
         if state != self.DEAD:
             n = len(ch.prefix)
             for e in set().union(*(self.sem.mentions(p) for p in self.states[state])):
                 if len(e) > n and _extends(ch.prefix, e[:n]):
                     for j, x in enumerate(e[n: n + ch.arity]):
-                        if x is not ANY and not isinstance(x, Input):
+                        if isinstance(x, Input):
+                            out[j].update((self.sem.field_values(ch.prefix, j) or []) if x.used else [])
+                        elif x is not ANY:
                             out[j].add(x)
         return [sorted(f, key=repr) for f in out]
 
     def values(self, state: int, ch: Channel) -> list[tuple]:
         """The value tuples of `ch` that the terms of `state` tell apart: per field a named value
-        or `OTHER` (every value not named there)."""
+        or `OTHER` (every value not named there).  No `OTHER` in a field of an input from outside
+        (`….in`) that names every listed value: the ranges bound what the model receives (§6.2)."""
         combos: list[tuple] = [()]
-        for named in self.fields(state, ch):
-            combos = [(*c, v) for c in combos for v in (*named, OTHER)]
+        for j, named in enumerate(self.fields(state, ch)):
+            listed = self.sem.field_values(ch.prefix, j) if ch.prefix[-1:] == ("in",) and named else None
+            every = listed is not None and all(any(_same(v, x) for x in named) for v in listed)
+            combos = [(*c, v) for c in combos for v in (named if every else (*named, OTHER))]
             if len(combos) > 256:
                 raise TooLarge
         return combos

@@ -1,0 +1,143 @@
+"""Specifications that read the values they receive (docs/semantics.md §8.3), RoboTool's bounded
+arithmetic in them, and the variables an operation requires (§4.7): both engines.
+
+The models are RoboTool's test13 cut down: a controller receives `In.in?y` and must output
+`Out.out.(y + 1)`, computed by an operation that requires the machine's variable.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+from conftest import write_files
+
+import tockbmc
+from tockbmc.check import check
+from tockbmc.encodings.values import Range, Ranges
+from tockbmc.explicit.engine import check_explicit
+from tockbmc.model.config import configure
+from tockbmc.model.result import Result
+
+NAT = Ranges({"core_nat": Range(Fraction(0), Fraction(2)), "core_int": Range(Fraction(-2), Fraction(2))})
+
+# STM receives i, calls Inc() (which requires i: the machine's own variable), then outputs i.
+BUFFER = """
+interface IEvents { event In : nat  event Out : nat }
+interface IShared { var i : nat }
+interface Ops { Inc() }
+operation Inc() {
+  requires IShared
+  initial I
+  final F
+  transition T0 { from I to F action i = i + 1 }
+}
+controller CT {
+  event In : nat
+  event Out : nat
+  opref inc = Inc
+  sref STM = STM
+  connection CT on In to STM on In
+  connection STM on Out to CT on Out
+}
+stm STM {
+  var i : nat
+  requires Ops
+  uses IEvents
+  initial I
+  state S0 {}
+  state S1 { entry Inc() ; Out!i }
+  transition T0 { from I to S0 }
+  transition T1 { from S0 to S1 trigger In?i }
+  transition T2 { from S1 to S0 }
+}
+"""
+
+SPECS = """
+untimed csp Echo csp-begin
+Echo = CT::In.in?y -> CT::Out.out!Plus(y, 1, core_nat) -> Echo
+csp-end
+untimed csp Same csp-begin
+Same = CT::In.in?y -> CT::Out.out!y -> Same
+csp-end
+untimed csp Zero csp-begin
+Zero = CT::In.in?y -> CT::Out.out!(y + 0 + 1) -> Zero
+csp-end
+untimed assertion E : CT refines Echo in the traces model
+untimed assertion F : CT equals Echo in the failures divergences model
+untimed assertion S : CT refines Same in the traces model
+untimed assertion Z : CT refines Zero in the traces model
+"""
+
+
+def both(tmp_path: Path, rct: str, assertions: str, ranges: Ranges = NAT) -> tuple[dict[str, Result], dict[str, Result]]:
+    write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
+    project = tockbmc.load(tmp_path)
+    symbolic = {r.assertion: r for r in check(project, bound=24, config=configure(project, ranges), timeout=60)}
+    concrete = {r.assertion: r for r in check_explicit(project, None, 8, ranges, {}, 60, 200_000)}
+    return symbolic, concrete
+
+
+def test_a_specification_reads_what_it_received(tmp_path: Path) -> None:
+    """`In.in?y -> Out.out!Plus(y,1,core_nat)` is told apart value by value over core_nat = 0..2:
+    CT outputs y + 1 (its operation increments the machine's own `i`), so E, F and Z hold in both
+    engines (`Plus` exact, as the model's `+` is, its type argument unread; `y + 0` is no division
+    by zero), and S, which wants y back, is violated after In.in.v, Out.out.(v + 1)."""
+    symbolic, concrete = both(tmp_path, BUFFER, SPECS)
+    for results in (symbolic, concrete):
+        for name in ("E", "F", "Z"):
+            assert results[name].verdict == "holds", (name, results[name].reason)
+        s = results["S"]
+        assert s.verdict == "violated", s.reason
+        shown = [step.event for step in s.trace if step.kind != "internal"]
+        v = int(shown[0].rsplit(".", 1)[1])
+        assert shown == [f"CT::In.in.{v}", f"CT::Out.out.{v + 1}"], shown
+
+
+def test_an_unbounded_input_the_specification_reads_is_unsupported(tmp_path: Path) -> None:
+    """Without a range on nat, BMC cannot list the values of `y`: unsupported, with the reason and
+    the specification's line (the explicit engine needs a range for every value anyway)."""
+    write_files(tmp_path, {"m.rct": BUFFER, "m.assertions": SPECS})
+    project = tockbmc.load(tmp_path)
+    [e] = check(project, ["E"], bound=24, config=configure(project, Ranges()), timeout=60)
+    assert e.verdict == "unsupported"
+    assert "does not track" in (e.reason or "") and "m.assertions:3" in (e.reason or ""), e.reason
+
+
+def test_robotool_memory_channels_are_unsupported(tmp_path: Path) -> None:
+    """RoboTool shows a write of a platform-provided variable as `M::set_x`; tockbmc has no such
+    event, so a specification naming one is unsupported (it would otherwise be violated)."""
+    rct = BUFFER + "module M { rref rp = RP  cref c = CT  connection rp on In to c on In ( _async ) }\n" \
+                   "robotic platform RP { uses IEvents  var x : nat }\n"
+    spec = """
+untimed csp W csp-begin
+W = M::In.in?y -> M::set_x!y -> W
+csp-end
+untimed assertion W : M refines W in the traces model
+"""
+    symbolic, concrete = both(tmp_path, rct, spec)
+    for results in (symbolic, concrete):
+        assert results["W"].verdict == "unsupported"
+        assert "RoboTool's channel for writing variable x" in (results["W"].reason or "")
+
+
+def test_a_variable_an_operation_requires_from_its_calling_operation_is_unsupported(tmp_path: Path) -> None:
+    """RoboChart: the caller provides what an operation requires.  A machine's own variable does
+    (the first test); one an operation declares for the operation it calls is not resolved yet:
+    `unsupported` at the call, in both engines (ops4's opA/opB)."""
+    rct = BUFFER.replace("state S1 { entry Inc() ; Out!i }", "state S1 { entry Outer() ; Out!i }").replace(
+        "interface Ops { Inc() }", "interface Ops { Outer() }\ninterface IInc { Inc() }") + """
+operation Outer() {
+  requires IInc
+  var i : nat = 2
+  initial I
+  final F
+  transition T0 { from I to F action Inc() }
+}
+"""
+    rct = rct.replace("opref inc = Inc", "opref inc = Inc\n  opref outer = Outer")
+    spec = "untimed assertion D : CT is deadlock-free\n"
+    symbolic, concrete = both(tmp_path, rct, spec)
+    for results in (symbolic, concrete):
+        assert results["D"].verdict == "unsupported"
+        assert "requires variable i, which Outer, the operation calling it, declares" in (results["D"].reason or "")
