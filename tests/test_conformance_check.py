@@ -151,7 +151,7 @@ TICK_TOCK_CHECKED = {("simGeneric-1", "TT1"): "holds", ("simGeneric-5", "TT0"): 
                      ("simGeneric-5", "TT1"): "holds", ("simGeneric-8", "TT0"): "holds",
                      ("simGeneric-8", "TT1"): "holds"}
 TICK_TOCK_UNSUPPORTED = {
-    ("ops4", "A1"): "unknown name 'r'",  # the specification's Plus(2,r,core_nat) (A0 too)
+    ("ops4", "A1"): "requires variable e, which opA, the operation calling it, declares",  # A0 too
 }
 
 

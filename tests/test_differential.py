@@ -102,10 +102,13 @@ def _agree(rct: str, assertions: str, ranges: object = None) -> None:
 # Models on which the engines disagreed before a fix (written by `random_case(seed)` as it was
 # then): the explicit engine's time-only deadlock was found late; a reason claimed a complete search
 # that was not; 20263: BMC counted a state as entered only once its entry action had made a step;
-# 100735: a time-only deadlock that BMC shows after a tock the explicit engine need not show.
+# 100735: a time-only deadlock that BMC shows after a tock the explicit engine need not show;
+# seed8 (with every form and data, its one tick-tock assertion kept): Z3's model defined the
+# monitor's state by a quantified formula, and reading it crashed the report.
 FORMER = Path(__file__).parent / "differential_cases"
 
 
 @pytest.mark.parametrize("case", sorted(p.stem for p in FORMER.glob("*.rct")))
 def test_former_disagreements(case: str) -> None:
-    _agree((FORMER / f"{case}.rct").read_text(), (FORMER / f"{case}.assertions").read_text())
+    rct = (FORMER / f"{case}.rct").read_text()
+    _agree(rct, (FORMER / f"{case}.assertions").read_text(), _cases.DATA_RANGES if "event d : Seq" in rct else None)

@@ -157,3 +157,4 @@ def test_explore_refuses_a_model_element_as_the_specification() -> None:
     within fixed ones, so explore says so rather than follow a placeholder."""
     out = run_cli(["explore", MODEL, "-a", "M1", "--bound", str(BOUND)])
     assert "unsupported: explore's ranges are parameters" in out.stdout
+

@@ -15,6 +15,27 @@ import z3
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.values import Value, fresh, leaves
 
+_QE_MS = 2000  # to eliminate the quantifiers of a value a model defines by a formula
+
+
+def int_value(model: z3.ModelRef, term: z3.ExprRef) -> int:
+    """The value of an integer term in a model.  A model may define one by a quantified formula
+    (`If(Exists(…), 1, 4)`, as a refusal's values leave the monitor's state); its quantifiers are
+    then eliminated and the result solved for."""
+    value = model.eval(term, model_completion=True)
+    if z3.is_int_value(value):
+        return value.as_long()  # type: ignore[attr-defined, no-any-return]
+    n = z3.Int("int_value", value.ctx)
+    goal = z3.Goal(ctx=value.ctx)
+    goal.add(n == value)
+    solver = z3.Solver(ctx=value.ctx)
+    solver.set(timeout=_QE_MS)
+    solver.add(z3.Then("simplify", "qe", "simplify", ctx=value.ctx)(goal).as_expr())
+    found = solver.model().eval(n, model_completion=True) if solver.check() == z3.sat else None
+    if not z3.is_int_value(found):
+        raise RuntimeError(f"the value of {term} in the run could not be computed")
+    return found.as_long()  # type: ignore[union-attr, no-any-return]
+
 
 class _Renaming:
     """A substitution of constants, prepared once and applied to many terms.

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import z3
 
 from tockbmc.encodings.system import Target, TransitionSystem
-from tockbmc.encodings.unroller import Unroller
+from tockbmc.encodings.unroller import Unroller, int_value
 from tockbmc.model import ast
 from tockbmc.model.result import Verdict
 from tockbmc.properties.process import Context, Implementation
@@ -132,4 +132,4 @@ def true_at(unroller: Unroller, model: z3.ModelRef, term: z3.BoolRef, k: int) ->
 
 def number_at(unroller: Unroller, model: z3.ModelRef, term: z3.ExprRef, k: int) -> int:
     """An integer term over the template step, its value at step k."""
-    return model.eval(unroller.at(term, k), model_completion=True).as_long()  # type: ignore[attr-defined, no-any-return]
+    return int_value(model, unroller.at(term, k))

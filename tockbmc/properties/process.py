@@ -21,7 +21,7 @@ from lark import Tree
 from tockbmc.encodings import names
 from tockbmc.encodings.composition import External
 from tockbmc.encodings.system import TransitionSystem
-from tockbmc.encodings.unroller import Unroller
+from tockbmc.encodings.unroller import Unroller, int_value
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, canonical, pos_of
 from tockbmc.model.result import TraceStep
@@ -352,7 +352,7 @@ class MonitorExtension:
         """A decoded run with the events before the element (a prefix) and after it (`P ; T`)."""
         before = tuple(TraceStep(0, _event_text(e), "event", "before the model starts", {}, {})
                        for e in self.context.impl.head)
-        state = model.eval(unroller.frame(k)[names.MONITOR], model_completion=True).as_long()
+        state = int_value(model, unroller.frame(k)[names.MONITOR])
         if not z3.is_true(model.eval(unroller.at(unroller.system.halted(), k), model_completion=True)):
             state = Monitor.DEAD  # nothing follows an element that has not terminated (a refusal, a divergence)
         last = trace[-1].states if trace else {}
