@@ -159,3 +159,35 @@ def test_a_computation_cut_short_says_so(project: tockbmc.Project) -> None:
     """Out of time: the region found so far is certain, the outside is not known, and it is said."""
     [e] = explore(project, ["G"], timeout=0.001)
     assert e.status == "unknown" and e.reach == "partial" and e.reason
+
+
+def test_an_untimed_assertion_is_explored_in_the_untimed_semantics(tmp_path: Path) -> None:
+    """An untimed refinement: explore built the timed system, so its counterexample had a tock the
+    untimed interpreter could not follow (ReplayFailure, exit 1).  With no parameters it is violated
+    everywhere, by the inputs that are not 0; the example has no tock and is replayed."""
+    (tmp_path / "m.rct").write_text("""
+stm M {
+  event a : int
+  event b : int
+  var x : int = 0
+  initial i
+  state s {}
+  state t { entry b!x }
+  transition t0 { from i to s }
+  transition t1 { from s to t trigger a?x }
+  transition t2 { from t to s }
+}
+""")
+    (tmp_path / "m.assertions").write_text("""
+untimed csp S csp-begin
+S = M::a.in?y -> M::b.out.0 -> S
+csp-end
+untimed assertion U : M refines S in the traces model
+""")
+    [e] = explore(tockbmc.load(tmp_path), ranges={"core_int": Range(Fraction(-2), Fraction(2))}, timeout=60)
+    assert e.status == "region", e.reason
+    assert e.condition == "true" and e.reach == "every length", (e.condition, e.reach)
+    [carried] = e.carried
+    assert carried.condition == "-2 ≤ value ≤ -1 or 1 ≤ value ≤ 2", carried
+    shown = [s.event for s in e.trace if s.kind != "internal"]
+    assert "tock" not in shown and shown[-1].startswith("M::b.out."), shown

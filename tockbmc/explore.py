@@ -113,7 +113,7 @@ class _Explore:
                 raise Unsupported(self.a.pos, "explore decides assertions that one kind of run decides; this one "
                                   "needs a witness and the absence of a violation together")
             setup = self.plan.config.setup(self.a, q.element, q.settings)
-            network = network_of(q.element, dict(q.defined))
+            network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             return self.regions(q, setup, network)
         except Unsupported as exc:
