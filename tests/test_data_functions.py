@@ -157,6 +157,8 @@ NEWLY_LOADING = {
     "UoY-RoboStar+rc2rs-examples/Harvester": ("rc2rs/", "variables, events and functions of type Coord3D -> …"),
     "UoY-RoboStar+robochart-normalisation-tests/HarvesterProject": ("normalForm/", "the same Harvester"),
     "UoY-RoboStar+laptop-refurbishing-case-study/Concept/RoboChart": (None, "comprehensions, nat -> real * real, s[i] = e"),
+    # its own copies of RoboTool's toolkits: generic functions whose text does not check with ?X unbound
+    "laila-fangyan+RoboChart2Circus_2024/ChemicalDetector-autonomous-v4_fun_modified": (None, "generic toolkit copies"),
 }
 
 
@@ -224,3 +226,33 @@ stm M {
 """
     project = _project(tmp_path, model, REACH)
     assert _both(project, ["R1", "R2"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED}
+
+
+GENERIC = """
+function pairs(x : ?X) : Set(?X * ?X) {
+  postcondition result == {y : ?X | (|y, x|)}
+}
+function twice(x : ?X) : ?X * ?X {
+  postcondition result == (|x, x|)
+}
+stm M {
+  event out : int * int
+  initial i
+  state s { entry out!twice(1) }
+  transition t0 { from i to s }
+}
+"""
+
+
+def test_a_generic_function_is_checked_where_it_is_called(tmp_path: Path) -> None:
+    """RoboTool's own relation_toolkit has `id() … {x : ?X | maplet(x, x)}`, whose condition is not
+    boolean: with ?X unbound the text of a generic function is not checked (`pairs`, never called,
+    loads); an instance is (`twice(1)` works), and an instance's errors are reported at its text."""
+    (tmp_path / "m.rct").write_text(GENERIC)
+    project = load(tmp_path)
+    assert [f.name for f in project.functions if f.name.startswith("twice")]
+    (tmp_path / "m.rct").write_text(GENERIC.replace("entry out!twice(1)", "entry out!(|1, 1|); x = pairs(1)")
+                                    .replace("event out : int * int", "event out : int * int\n  var x : Set(int * int)"))
+    with pytest.raises(ModelError) as error:
+        load(tmp_path)
+    assert "m.rct:3" in str(error.value) and "condition must be boolean" in str(error.value), str(error.value)

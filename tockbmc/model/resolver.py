@@ -365,14 +365,34 @@ class Resolver:
     # ----------------------------------------------------------------- functions
 
     def function(self, decl: Declaration) -> ast.Function | None:
-        return self.memo("function", decl.qname, lambda: self._function(decl, {}), decl.file.path, name_of(decl.tree))
+        return self.memo("function", decl.qname, lambda: self._generic_or_not(decl), decl.file.path, name_of(decl.tree))
+
+    def _generic_or_not(self, decl: Declaration, bindings: dict[str, ast.Type] | None = None,
+                        suffix: str = "") -> ast.Function:
+        """A function's declaration, checked.  A generic one (`f(x : ?X)`) is checked for its types
+        where it is called (`instance`); its own text, with `?X` unbound, may not check (RoboTool's
+        own function_toolkit has `{x : ?X | maplet(x, x)}`, which RoboTool accepts), so errors
+        inside it are left to its instances: a generic function nobody calls decides nothing."""
+        bindings = bindings or {}
+        variables = {str(n.children[0]) for n in decl.tree.find_data("any_type")}
+        unbound = bool(variables) and (not variables <= bindings.keys()
+                                       or any("?" in str(t) for t in bindings.values()))  # inside a generic one
+        if not unbound:
+            return self._function(decl, bindings, suffix)
+        mark = len(self.diagnostics)
+        f = self._function(decl, bindings, suffix)
+        meta = decl.tree.meta
+        inside = [d for d in self.diagnostics[mark:] if d.pos.path == decl.file.path and not meta.empty
+                  and meta.line <= d.pos.line <= meta.end_line]
+        self.diagnostics[mark:] = [d for d in self.diagnostics[mark:] if d not in inside]
+        return f
 
     def instance(self, f: ast.Function, bindings: dict[str, ast.Type]) -> ast.Function | None:
         """The instance of generic function `f` with its types `?X` bound: its signature and
         conditions checked again with them (once per binding)."""
         decl = self.table.declarations[f.qname]
         suffix = "[" + ", ".join(f"?{k}={bindings[k]}" for k in sorted(bindings)) + "]"
-        return self.memo("function", f.qname + suffix, lambda: self._function(decl, bindings, suffix),
+        return self.memo("function", f.qname + suffix, lambda: self._generic_or_not(decl, bindings, suffix),
                          decl.file.path, name_of(decl.tree))
 
     def _function(self, decl: Declaration, bindings: dict[str, ast.Type], suffix: str = "") -> ast.Function:
