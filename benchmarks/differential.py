@@ -3,7 +3,7 @@
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
 [--specs] [--data] [--untimed] [--tick-tock]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
-(benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` four
+(benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` five
 refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
 assertions and seven refinements in the failures models; with `--tick-tock`, five refinements in the
 tick-tock model, the model on the left of three and the specification on the left of two), checked with

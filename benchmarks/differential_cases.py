@@ -224,7 +224,8 @@ timed assertion TT4: TTStopped refines M in the tick-tock model.
 
 
 # Each names values of one of M's channels (its input a, its output b, its call op), and lets M
-# terminate (`Ends`): CHAOS cannot do ✓, which M does after its terminate.
+# terminate (`Ends`): CHAOS cannot do ✓, which M does after its terminate.  `EchoA` reads the value
+# a receives: an output on b that follows an input on a, with no other event between, carries it.
 SPECS = """timed csp Specs csp-begin
 Timed(OneStep) {
   Ends(P) = P [| {|M::terminate|} |> SKIP
@@ -232,12 +233,16 @@ Timed(OneStep) {
   NoCall0 = Ends(CHAOS(diff(Events, {M::opCall.0})))
   AnswerA1 = let Def = (CHAOS(Events) [| {M::a.in.1} |> ADeadline({|M::b.out|}, 1)); Def within Ends(timed_priority(Def))
   NoA0AfterB0 = Ends(CHAOS(Events) [| {M::b.out.0} |> CHAOS(diff(Events, {M::a.in.0})))
+  Others(P) = (M::c.in -> P) [] (M::c.out -> P) [] (M::opCall?y -> P) [] (M::terminate -> SKIP)
+  EchoA = (M::a.in?x -> Echoed(x)) [] (M::b.out?w -> EchoA) [] Others(EchoA)
+  Echoed(x) = (M::a.in?z -> Echoed(z)) [] (M::b.out!x -> EchoA) [] Others(EchoA)
 }
 csp-end
 timed assertion R0: M refines NoB1 in the traces model.
 timed assertion R1: M refines NoCall0 in the traces model.
 timed assertion R2: M refines AnswerA1 in the traces model.
 timed assertion R3: M refines NoA0AfterB0 in the traces model.
+timed assertion R4: M refines EchoA in the traces model.
 """
 
 
