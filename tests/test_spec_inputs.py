@@ -141,3 +141,47 @@ operation Outer() {
     for results in (symbolic, concrete):
         assert results["D"].verdict == "unsupported"
         assert "requires variable i, which Outer, the operation calling it, declares" in (results["D"].reason or "")
+
+
+def test_distributed_union_and_replicated_choice_over_a_difference(tmp_path: Path) -> None:
+    """RoboArch's property files write `Union({A, B, C})` and `|~| ev : diff(All, {|c|}) @ ev -> P`
+    (roboarch-examples ObstacleAvoidance): a replicated operator ranges over the channels of a
+    union or of a difference that removes whole channels.  CT answers every In with an Out, so
+    `Answer` (after In, only Out) holds, and `NoOut` (never Out) is violated after In, Out."""
+    spec = """
+csp Sets csp-begin
+  All = Union({ {| CT::In.in |}, {| CT::Out.out |} })
+  Answer = |~| ev : diff(All, {| CT::Out.out |}) @ ev -> CT::Out.out?v -> Answer
+  NoOut = |~| ev : diff(All, {| CT::Out.out |}) @ ev -> NoOut
+csp-end
+untimed assertion A : CT refines Answer in the traces model
+untimed assertion N : CT refines NoOut in the traces model
+"""
+    symbolic, concrete = both(tmp_path, BUFFER, spec)
+    for results in (symbolic, concrete):
+        assert results["A"].verdict == "holds", results["A"].reason
+        n = results["N"]
+        assert n.verdict == "violated", n.reason
+        shown = [step.event for step in n.trace if step.kind != "internal"]
+        assert shown[0].startswith("CT::In.in.") and shown[1].startswith("CT::Out.out."), shown
+
+
+def test_an_empty_sequence_takes_the_type_it_is_compared_with(tmp_path: Path) -> None:
+    """`s == < >` with `s : Seq(Skills)`: the literal was left a sequence of unknown type, and every
+    assertion on the machine was unsupported ("values of type ? are not encoded yet")."""
+    rct = """
+import sequence_toolkit::*
+enumeration Skills { MOVE EXPLORE }
+stm M {
+  var s : Seq(Skills) = < Skills::MOVE >
+  event e
+  initial i
+  state A {}
+  state B {}
+  transition t0 { from i to A }
+  transition t1 { from A to B trigger e condition s == < > }
+}
+"""
+    symbolic, concrete = both(tmp_path, rct, "assertion R : B is reachable in M\n")
+    for results in (symbolic, concrete):
+        assert results["R"].verdict == "violated", results["R"].reason  # s is never empty

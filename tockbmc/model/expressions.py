@@ -252,7 +252,8 @@ class ExprChecker:
             self.expect(left_node, left, BOOLEAN, f"the left operand of '{op}'")
             self.expect(right_node, right, BOOLEAN, f"the right operand of '{op}'")
             return ast.Binary(BOOLEAN, p, _LOGIC[op], left, right)
-        if op in _EQUALITY:
+        if op in _EQUALITY:  # a literal takes the other side's type (`s == <>`: `<>` a Seq(Skills))
+            left, right = conform(left, right.type), conform(right, left.type)
             if not ast.comparable(left.type, right.type):
                 self.error(node, f"type error: cannot compare {left.type} with {right.type}")
             return ast.Binary(BOOLEAN, p, op, left, right)

@@ -474,9 +474,11 @@ class Evaluator:
         op_text = str(op.children[0])
         values = self.eval(over, env)
         if isinstance(values, EventSet):
-            if values.kind not in ("closure", "exact"):
-                raise self.error(t, "replicated operators range over listed events only")
-            members: list[object] = [(*p, ANY) if values.kind == "closure" else p for p in values.items]
+            listed = _members(values)
+            if listed is None:
+                raise self.error(t, "replicated operators range over listed events, their unions, and differences "
+                                    "that remove whole channels or listed events, only")
+            members: list[object] = listed
         elif isinstance(values, frozenset):
             members = sorted(values)  # type: ignore[type-var]
         else:
@@ -608,13 +610,74 @@ def _endby(timed: bool, p: Proc, d: int) -> Proc:
 
 
 def _set_op(kind: str) -> Callable[..., EventSet]:
-    return lambda timed, a, b: EventSet(kind, (a, b))
+    return lambda timed, a, b: EventSet(kind, (a, b)) if isinstance(a, EventSet) else _value_set_op(kind, a, b)
+
+
+def _value_set_op(kind: str, a: object, b: object) -> frozenset:
+    if not isinstance(a, frozenset) or not isinstance(b, frozenset):
+        raise TypeError("not two sets")
+    return a | b if kind == "union" else a - b if kind == "diff" else a & b
+
+
+def _distributed(kind: str) -> Callable[..., object]:
+    """`Union(S)` and `Inter(S)`: the union or intersection of a set of sets (of events or values)."""
+    def fold(timed: bool, sets: object) -> object:
+        if not isinstance(sets, frozenset) or not sets:
+            raise TypeError("not a non-empty set of sets")
+        items = sorted(sets, key=repr)
+        out = items[0]
+        for x in items[1:]:
+            out = _set_op(kind)(timed, out, x)
+        return out
+    return fold
+
+
+def _members(a: EventSet) -> list[object] | None:
+    """The events of a set one by one, for a replicated operator: a channel's closure as one member
+    (`(*channel, ANY)`, any value), listed events as they are; None where a difference removes part
+    of a channel, or for intersections and `Events`."""
+    if a.kind == "closure":
+        return [(*p, ANY) for p in a.items]
+    if a.kind == "exact":
+        return list(a.items)
+    if a.kind == "union":
+        left, right = _members(a.items[0]), _members(a.items[1])
+        return None if left is None or right is None else list(dict.fromkeys([*left, *right]))
+    if a.kind == "diff":
+        kept = _members(a.items[0])
+        if kept is None:
+            return None
+        out = []
+        for m in kept:
+            if not isinstance(m, tuple) or not m or m[-1] is not ANY:  # a listed event
+                if not a.items[1].contains(m):
+                    out.append(m)
+                continue
+            prefix = m[:-1]
+            if a.items[1].contains((*prefix, ANY)) and _whole(prefix, a.items[1]):
+                continue
+            if any(_extends(e, prefix) or _extends(prefix, e) for e in a.items[1].mentions()) \
+                    or a.items[1].kind == "all":
+                return None  # part of the channel removed
+            out.append(m)
+        return out
+    return None
+
+
+def _whole(prefix: tuple, b: EventSet) -> bool:
+    """Whether b holds every event of the channel `prefix` (a closure of it or of a shorter prefix)."""
+    if b.kind == "closure":
+        return any(_extends(prefix, q) for q in b.items)
+    if b.kind == "union":
+        return _whole(prefix, b.items[0]) or _whole(prefix, b.items[1])
+    return b.kind == "all"
 
 
 _BUILTINS: dict[str, Callable[..., object]] = {
     "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
     "EndBy": _endby, "Deadline": _endby, "timed_priority": lambda timed, p: p,
     "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
+    "Union": _distributed("union"), "Inter": _distributed("inter"),
 }
 
 
