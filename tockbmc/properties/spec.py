@@ -609,7 +609,7 @@ def _endby(timed: bool, p: Proc, d: int) -> Proc:
     return EndBy(p, d, 0)
 
 
-def _set_op(kind: str) -> Callable[..., EventSet]:
+def _set_op(kind: str) -> Callable[..., EventSet | frozenset]:
     return lambda timed, a, b: EventSet(kind, (a, b)) if isinstance(a, EventSet) else _value_set_op(kind, a, b)
 
 
