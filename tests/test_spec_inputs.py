@@ -185,3 +185,25 @@ stm M {
     symbolic, concrete = both(tmp_path, rct, "assertion R : B is reachable in M\n")
     for results in (symbolic, concrete):
         assert results["R"].verdict == "violated", results["R"].reason  # s is never empty
+
+
+def test_an_unprefixed_assertion_says_it_was_checked_timed(tmp_path: Path) -> None:
+    """RoboArch's property files write `assertion P: M refines S` with S in an untimed `csp` block,
+    whose prefixes refuse tock: checked in the timed semantics (docs/semantics.md §7.8), the first
+    tock violates it, and the result says which default decided that; `timed assertion` does not."""
+    spec = """
+csp S csp-begin
+  S = CT::In.in?y -> CT::Out.out!Plus(y, 1, core_nat) -> S
+csp-end
+assertion U : CT refines S in the traces model
+timed assertion T : CT refines S in the traces model
+untimed assertion N : CT refines S in the traces model
+"""
+    symbolic, concrete = both(tmp_path, BUFFER, spec)
+    for results in (symbolic, concrete):
+        for name in ("U", "T"):
+            r = results[name]
+            assert r.verdict == "violated" and [s.event for s in r.trace if s.kind != "internal"] == ["tock"], r.reason
+        assert "says neither `timed` nor `untimed`" in (results["U"].reason or "")
+        assert "says neither" not in (results["T"].reason or "")
+        assert results["N"].verdict == "holds", results["N"].reason

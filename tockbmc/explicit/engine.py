@@ -45,7 +45,7 @@ from tockbmc.properties.failures import (
 from tockbmc.properties.goals import Query
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
-from tockbmc.properties.queries import given_spec, query
+from tockbmc.properties.queries import given_spec, query, unprefixed_tock
 from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
 from tockbmc.properties.ticktock import (
     TICK_TOCK,
@@ -829,7 +829,9 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
                        f"{name} is stable, offers only {offered} and lets time pass; {spec} cannot let time pass "
                        "after the events before it")
                 return result(verdict, why, head + trace, more)
-            return result(verdict, f"{spec} cannot do the last event of this trace{tocks}", head + trace, more)
+            last = trace[-1].event if trace else ""
+            return result(verdict, f"{spec} cannot do the last event of this trace{tocks}"
+                                   f"{unprefixed_tock(a) if last == 'tock' else ''}", head + trace, more)
         if refusals is not None and a.semantic_model == "failures divergences":
             loop = search.nearest_divergence()
             if loop is not None:

@@ -237,6 +237,15 @@ def _timelock_after(a: ast.Assertion, element: ast.StateMachine | ast.Controller
     return Query(assertion=a, element=element, goals=(goal,), context=context, settings=settings, defined=defined)
 
 
+def unprefixed_tock(a: ast.Assertion) -> str:
+    """What to add where a specification refuses a tock of the model, for an assertion that says
+    neither `timed` nor `untimed`: a default that decided the verdict is said with it (§7.8)."""
+    if a.timing is not None:
+        return ""
+    return ("; the assertion says neither `timed` nor `untimed`, so it is checked in the timed semantics, where "
+            "time passes (`untimed assertion` checks RoboTool's untimed semantics)")
+
+
 def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
     """Every trace of the model `name` is one of the specification `spec` (a monitor beside the model)."""
     def violated(system: TransitionSystem) -> z3.BoolRef:
@@ -255,7 +264,8 @@ def _refinement_goal(a: ast.Assertion, name: str, spec: str) -> Goal:
             allowed = ext.allowed(before)
             offer = (f"; there it can do {allowed[0]}" if allowed == ["any event but tock"]
                      else f"; there it can do only {', '.join(allowed)}" if allowed else "; there it can do nothing")
-            return f"{spec} cannot do {last} after the events before it{offer}"
+            return f"{spec} cannot do {last} after the events before it{offer}" + (
+                unprefixed_tock(a) if last == "tock" else "")
         rest = " ".join(ext.bad_end.get(state, []))
         return f"after {name} terminates, the process goes on with {rest}, which {spec} cannot do"
 
