@@ -207,3 +207,61 @@ untimed assertion N : CT refines S in the traces model
         assert "says neither `timed` nor `untimed`" in (results["U"].reason or "")
         assert "says neither" not in (results["T"].reason or "")
         assert results["N"].verdict == "holds", results["N"].reason
+
+
+# Found by review: the values the interpreter lists must be those BMC's runs can take, or a
+# specification that names (or reads) every listed value treats an unlisted one wrongly.
+ECHO_REAL = """
+interface IE { event inp : real  event f  event g }
+stm M { uses IE  var v : real  initial I  state S0 {} state S1 {} state S2 {}
+  transition T0 { from I to S0 }  transition T1 { from S0 to S1 trigger inp?v }
+  transition T2 { from S1 to S2 action f } }
+"""
+
+
+def test_a_real_input_is_not_listed_for_bmc(tmp_path: Path) -> None:
+    """BMC takes every real of `core_real=0..1` (0.5 too); the interpreter lists 0 and 1.  A
+    specification reading the value is unsupported in BMC (it said `holds`, missing inp.in.0.5,
+    f.out)."""
+    write_files(tmp_path, {"m.rct": ECHO_REAL, "m.assertions": """
+untimed csp Sp csp-begin
+Sp = M::inp.in?x -> ((x == 0 or x == 1) & M::f.out -> STOP [] (x != 0 and x != 1) & M::g.out -> STOP)
+csp-end
+untimed assertion A : M refines Sp in the traces model
+"""})
+    project = tockbmc.load(tmp_path)
+    [a] = check(project, ["A"], bound=12, config=configure(project, Ranges({"core_real": Range(Fraction(0), Fraction(1))})))
+    assert a.verdict == "unsupported" and "does not track" in (a.reason or ""), (a.verdict, a.reason)
+
+
+def test_a_natural_bounded_only_by_core_int_is_not_listed_for_bmc(tmp_path: Path) -> None:
+    """With `core_int=-1..1` alone BMC leaves `nat` unbounded (the interpreter lists 0..1): a
+    specification naming inp.in.0 and inp.in.1 is violated by inp.in.2 (it said `holds`)."""
+    write_files(tmp_path, {"m.rct": ECHO_REAL.replace("real", "nat"), "m.assertions": """
+untimed csp Sq csp-begin
+Sq = M::inp.in.0 -> M::f.out -> STOP [] M::inp.in.1 -> M::f.out -> STOP
+csp-end
+untimed assertion B : M refines Sq in the traces model
+"""})
+    project = tockbmc.load(tmp_path)
+    [b] = check(project, ["B"], bound=12, config=configure(project, Ranges({"core_int": Range(Fraction(-1), Fraction(1))})))
+    assert b.verdict == "violated", b.reason
+    assert [s.event for s in b.trace if s.kind != "internal"][0] not in ("M::inp.in.0", "M::inp.in.1")
+
+
+def test_an_event_named_like_a_memory_channel_is_the_models(tmp_path: Path) -> None:
+    """`set_speed` is refused as RoboTool's write of variable `speed` only when it is not an event of
+    the model."""
+    write_files(tmp_path, {"m.rct": """
+interface IE { event set_speed : int }
+stm M { uses IE  var speed : int  initial I  state S0 {}
+  transition T0 { from I to S0 }  transition T1 { from S0 to S0 trigger set_speed?speed } }
+""", "m.assertions": """
+untimed csp Sp csp-begin
+Sp = M::set_speed.in?x -> Sp
+csp-end
+untimed assertion A : M refines Sp in the traces model
+"""})
+    project = tockbmc.load(tmp_path)
+    [a] = check(project, ["A"], bound=12, config=configure(project, Ranges({"core_int": Range(Fraction(-1), Fraction(1))})))
+    assert a.verdict == "holds", a.reason

@@ -333,14 +333,20 @@ class _Check:
 def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callable[[tuple], list[tuple] | None]:
     """Every value of each of the element's channels within the ranges, by the interpreter, so that
     a specification that accepts any value (`c?x`) can still have its traces listed."""
-    from tockbmc.explicit.engine import channel_values, python_settings, ranges_dict
+    from tockbmc.explicit.engine import channel_values, element_types, python_settings, ranges_dict
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable
 
     assert q.context is not None
     literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
     made: list[Callable[[tuple], list[tuple] | None]] = []
+    types = element_types(q.element)
 
     def values(prefix: tuple) -> list[tuple] | None:
+        ts = types.get(tuple(prefix))
+        event = str(prefix[0]).rsplit("::", 1)[-1]
+        if ts is None or ranges.parametric or any(event in path for path in ranges.by_path) \
+                or not all(_listed_as_bmc_bounds(t, ranges) for t in ts):
+            return None  # the interpreter's listing might not be every value BMC's run can take
         if not made:  # the interpreter is built when a specification first asks
             try:
                 interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined),
@@ -351,6 +357,20 @@ def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callabl
         return made[0](prefix)
 
     return values
+
+
+def _listed_as_bmc_bounds(t: ast.Type, ranges: Ranges) -> bool:
+    """Whether the interpreter lists exactly the values of type `t` that BMC lets come from outside:
+    an enumeration or a boolean, or an integer type with its own range (BMC reads `core_nat` for a
+    natural, where the interpreter falls back on `core_int`); never a real (BMC takes every real of
+    a range, the interpreter its integers)."""
+    if t == ast.BOOLEAN or isinstance(t, ast.EnumType):
+        return True
+    if t == ast.INT:
+        return "core_int" in ranges.by_type
+    if t == ast.NAT:
+        return "core_nat" in ranges.by_type
+    return isinstance(t, ast.GivenType) and t.name in ranges.by_type
 
 
 def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,

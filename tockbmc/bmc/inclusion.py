@@ -65,7 +65,7 @@ def _performs(system: TransitionSystem, target: Target, bound: int, timeout: Cal
     of the cost; only a search that finds nothing is repeated with k-induction, which may show that
     no number of steps reaches it."""
     quick = bmc(system, target, bound, timeout(), induction=False, progress=progress)
-    if quick.status == Status.FOUND or (quick.status == Status.UNKNOWN and "timed out" in (quick.reason or "")):
+    if quick.status != Status.NOT_FOUND:  # found, or out of time, or Z3 gave up: induction would not help
         return quick
     return bmc(system, target, bound, timeout(), induction=True, progress=progress)
 

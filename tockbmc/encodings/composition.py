@@ -139,8 +139,9 @@ class _Flattener:
         """
         # An inlined operation's required variable is the machine's own when the machine declares
         # it (it then has the machine's slot: the same name in the same scope).
-        local = {v.name for v in m.variables}
-        inlined = [v for scope, v in self.components[c].automaton.extra_variables if not scope and v.name not in local]
+        local = {v.name for v in m.variables if not v.constant}
+        inlined = [v for scope, v in self.components[c].automaton.extra_variables
+                   if not scope and (v.constant or v.name not in local)]
         for v in (*m.interface_variables, *inlined):
             if ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces)):
                 continue

@@ -908,8 +908,8 @@ class Interpreter:
         return s
 
     def _vkey(self, i: int, var: ast.Variable) -> tuple:
-        if var.kind == "interface":  # an operation's required variable is the calling machine's, if it declares it
-            local = next((v for v in self.insts[i].machine.variables if v.name == var.name), None)
+        if var.kind == "interface" and not var.constant:  # an operation's required variable: the calling machine's
+            local = next((v for v in self.insts[i].machine.variables if v.name == var.name and not v.constant), None)
             if local is not None:
                 return self._vkey(i, local)
         if var.kind == "interface" and self._own_interface(i, var):

@@ -103,7 +103,7 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
         try:
             inner = implementation(ev, inner_t, env, seen)
         except CspError:
-            if k != "prefix":
+            if k != "prefix" or "?" not in [str(x) for x in c[0].children]:
                 raise
             # What follows reads the prefix's inputs (`c?x -> e!x -> …`), unbound in this walk: a
             # specification term, evaluated as it is reached (a model process in it is refused then).
@@ -322,9 +322,12 @@ class MonitorExtension:
         exclusive (per field: a named value, or none of them), so their order does not matter."""
         entries = self.table[(s, c)]
         named = self.monitor.named[(s, c)]
-        out: z3.ArithRef = z3.IntVal(entries[-1][1])
+        # Without an "other values" class (every listed value named), a value that matches no entry
+        # would be one the listing missed: the dead state shows it, rather than a class it is not in.
+        every = all(OTHER not in vs for vs, _nxt in entries) and any(vs for vs, _nxt in entries)
+        out: z3.ArithRef = z3.IntVal(Monitor.DEAD if every else entries[-1][1])
         try:
-            for vs, nxt in reversed(entries[:-1]):
+            for vs, nxt in reversed(entries if every else entries[:-1]):
                 out = z3.If(z3.And([field_is(v, x, named[j]) for j, (v, x) in enumerate(zip(values, vs, strict=True))]),
                             nxt, out)
         except ValueError as exc:

@@ -82,7 +82,7 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if a.kind == "clock-initialised":
         raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
                                 "read before `#C` first resets it) is not checked yet")
-    ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _variable_names(project))
+    ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
@@ -403,13 +403,19 @@ def _top_level(project: ast.Project) -> Callable[[str], Definition | None]:
     return lookup
 
 
-def _variable_names(project: ast.Project) -> frozenset[str]:
-    """Every variable name the model declares (RoboTool names channels after them: `set_x`)."""
+def _memory_channels(project: ast.Project) -> frozenset[str]:
+    """RoboTool's channels for the reads and writes of the model's variables (`set_x`, `get_x`,
+    `setL_x`, `setR_x`), except names the model gives its own events."""
     groups: tuple[tuple[ast.Variable, ...], ...] = (
         *(h.variables for h in project.interfaces), *(h.variables for h in project.platforms),
         *(h.variables for h in project.machines), *(h.variables for h in project.controllers),
         *(h.variables for h in project.operations))
-    return frozenset(v.name for g in groups for v in g)
+    declared: tuple[tuple[ast.Event, ...], ...] = (
+        *(h.events for h in project.interfaces), *(h.events for h in project.platforms),
+        *(h.events for h in project.machines), *(h.events for h in project.controllers),
+        *(h.events for h in project.operations))
+    events = {e.name for g in declared for e in g}
+    return frozenset(f"{k}_{v.name}" for g in groups for v in g for k in ("set", "get", "setL", "setR")) - events
 
 
 def _literals(project: ast.Project) -> dict[str, EnumValue]:

@@ -281,11 +281,11 @@ class Evaluator:
     """Evaluates CSP expressions; `lookup_top` finds top-level definitions by name."""
 
     def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
-                 literals: dict[str, EnumValue] | None = None, variables: frozenset[str] = frozenset()):
+                 literals: dict[str, EnumValue] | None = None, memory: frozenset[str] = frozenset()):
         self.lookup_top = lookup_top
         self.block = block
         self.literals = literals or {}
-        self.variables = variables  # the model's variable names: RoboTool's `set_x`/`get_x` channels
+        self.memory = memory  # RoboTool's `set_x`/`get_x` channel names of the model's variables, not its events
 
     def error(self, node: Tree | Token, what: str) -> CspError:
         return CspError(pos_of(self.block, node), what)
@@ -411,7 +411,7 @@ class Evaluator:
             return literal
         if "::" in name:
             memory = _MEMORY_CHANNEL.fullmatch(name.rsplit("::", 1)[-1])
-            if memory is not None and memory.group(2) in self.variables:
+            if memory is not None and memory.group(0) in self.memory:
                 raise self.error(tok, f"'{name}' is RoboTool's channel for "
                                       f"{'reading' if memory.group(1) == 'get' else 'writing'} variable "
                                       f"{memory.group(2)}; tockbmc's semantics has no events for variable reads "
