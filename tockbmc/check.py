@@ -8,6 +8,7 @@ replayed by the independent interpreter (`explicit.replay`) before it is returne
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Callable, Hashable, Iterable, Iterator
 from contextlib import contextmanager
@@ -344,7 +345,7 @@ def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callabl
     def values(prefix: tuple) -> list[tuple] | None:
         ts = types.get(tuple(prefix))
         event = str(prefix[0]).rsplit("::", 1)[-1]
-        if ts is None or ranges.parametric or any(event in path for path in ranges.by_path) \
+        if ts is None or ranges.parametric or any(event in re.split(r"::|\.", path) for path in ranges.by_path) \
                 or not all(_listed_as_bmc_bounds(t, ranges) for t in ts):
             return None  # the interpreter's listing might not be every value BMC's run can take
         if not made:  # the interpreter is built when a specification first asks
