@@ -247,12 +247,50 @@ stm M {
 def test_a_generic_function_is_checked_where_it_is_called(tmp_path: Path) -> None:
     """RoboTool's own relation_toolkit has `id() … {x : ?X | maplet(x, x)}`, whose condition is not
     boolean: with ?X unbound the text of a generic function is not checked (`pairs`, never called,
-    loads); an instance is (`twice(1)` works), and an instance's errors are reported at its text."""
+    loads); an instance is (`twice(1)` works), and an instance whose conditions do not type-check
+    makes the checks that call it unsupported, with the error at its text."""
     (tmp_path / "m.rct").write_text(GENERIC)
     project = load(tmp_path)
     assert [f.name for f in project.functions if f.name.startswith("twice")]
     (tmp_path / "m.rct").write_text(GENERIC.replace("entry out!twice(1)", "entry out!(|1, 1|); x = pairs(1)")
                                     .replace("event out : int * int", "event out : int * int\n  var x : Set(int * int)"))
-    with pytest.raises(ModelError) as error:
-        load(tmp_path)
-    assert "m.rct:3" in str(error.value) and "condition must be boolean" in str(error.value), str(error.value)
+    (tmp_path / "m.assertions").write_text("assertion D : M is deadlock-free\n")
+    project = load(tmp_path)
+    [d] = check(project, ["D"], timeout=30)
+    assert d.verdict == Verdict.UNSUPPORTED and "m.rct:3" in (d.reason or "") \
+        and "condition must be boolean" in (d.reason or ""), d.reason
+
+
+def test_a_function_whose_conditions_do_not_type_check_loads(tmp_path: Path) -> None:
+    """turtlebot-robochart-move-composite (AURO): `postcondition result == v < c` is
+    `(result == v) < c` in RoboChart's left-associative comparisons, and RoboTool does not check
+    types in a function's conditions, so it loads there.  It loads here too; a call of the function
+    is unsupported, with the type error, in both engines, and what does not call it is checked."""
+    (tmp_path / "m.rct").write_text("""
+function lt(v : real, c : real) : boolean {
+  postcondition result == v < c
+}
+stm Uses {
+  var x : real = 0
+  event e
+  initial i
+  state s {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger e condition lt(x, 1) }
+}
+stm Other {
+  initial i
+  state s {}
+  transition t0 { from i to s }
+}
+""")
+    (tmp_path / "m.assertions").write_text("assertion U : Uses is deadlock-free\nassertion O : Other is timelock-free\n")
+    project = load(tmp_path)
+    ranges = Ranges({"core_real": Range(Fraction(0), Fraction(1))})
+    symbolic = {r.assertion: r for r in check(project, ranges=ranges, timeout=30)}
+    concrete = {r.assertion: r for r in check_explicit(project, None, 8, ranges, {}, 30, 10_000)}
+    for results in (symbolic, concrete):
+        assert results["U"].verdict == Verdict.UNSUPPORTED, results["U"].reason
+        assert "lt's conditions do not type-check" in (results["U"].reason or "")
+        assert "m.rct:3" in (results["U"].reason or "")
+        assert results["O"].verdict == Verdict.HOLDS, results["O"].reason

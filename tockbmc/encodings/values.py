@@ -327,6 +327,8 @@ class Evaluator:
 
     def _call(self, e: ast.Call, args: list[Value]) -> Value:
         f = e.function
+        if f.unchecked:
+            raise Unsupported(e.pos, ast.unchecked_function(f))
         if f.definition is not None:
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side,
                               ranges=self.ranges)

@@ -1363,6 +1363,8 @@ class Interpreter:
             return ctx.get(self._since_slot(ctx, e))
         if isinstance(e, ast.Call):
             f = e.function
+            if f.unchecked:
+                raise NotInterpretable(e.pos, ast.unchecked_function(f))
             if f.definition is None:
                 raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
             args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]

@@ -242,6 +242,12 @@ CALLER_PROVIDES = ("operation {op} requires variable {v}, which {caller}, the op
                    "a required variable provided by a calling operation is not supported yet")
 
 
+def unchecked_function(f: Function) -> str:
+    """Why a call of a function whose conditions do not type-check is not supported."""
+    return (f"function {f.name}'s conditions do not type-check, which RoboTool does not check there: "
+            f"{f.unchecked}")
+
+
 def provided_by_caller(caller: Behaviour, op: Behaviour) -> Variable | None:
     """A variable `op` requires that the operation calling it declares (RoboChart: the caller
     provides it), which neither engine resolves yet; None if there is none.  A machine that
@@ -357,6 +363,9 @@ class Function:
     postconditions: tuple[Expr, ...]
     definition: Expr | None
     pos: Pos
+    # The first type error of its conditions, which RoboTool does not check there (docs/semantics.md
+    # §6.4): the model loads, and a call of the function is `unsupported` with it.
+    unchecked: str = ""
 
     @property
     def name(self) -> str:

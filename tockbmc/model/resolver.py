@@ -404,8 +404,15 @@ class Resolver:
         result = self.type_of(scope, type_tree, bindings)
         expr_scope = Scope(scope.path, qname, variables={p.name: p for p in params}, result_type=result)
         checker = self.checker(scope, expr_scope, bindings)
+        mark = len(self.diagnostics)
         pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
         post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
+        # RoboTool does not check types in a function's conditions (turtlebot's `result == v < c`
+        # is `(result == v) < c`): their errors make the function's calls unsupported, not the model.
+        errors = [d for d in self.diagnostics[mark:] if d.severity == "error" and d.pos.path == scope.path
+                  and "type error" in d.message]
+        self.diagnostics[mark:] = [d for d in self.diagnostics[mark:] if d not in errors]
+        unchecked = f"{errors[0].message} ({errors[0].pos})" if errors else ""
         definition = None
         for cond in post:
             if isinstance(cond, ast.Binary) and cond.op == "==":
@@ -413,7 +420,8 @@ class Resolver:
                     definition = cond.right
                 elif isinstance(cond.right, ast.ResultRef):
                     definition = cond.left
-        return ast.Function(qname, params, result, pre, post, definition, pos_of(scope.path, name_of(tree)))
+        return ast.Function(qname, params, result, pre, post, None if unchecked else definition,
+                            pos_of(scope.path, name_of(tree)), unchecked)
 
     # ----------------------------------------------------------------- machines and operations
 
