@@ -715,6 +715,9 @@ class Interpreter:
         # RoboTool's untimed semantics (docs/semantics.md §7.11): the model as `model.untimed`
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
+        enum = ast.parameterised_enumeration((element, defined))
+        if enum is not None:
+            raise NotInterpretable(enum.parameterised, f"enumeration {enum.name} has literals with parameters")
         if not timed:
             element, defined = untimed(element, defined)
         self.element = element

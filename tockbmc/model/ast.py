@@ -62,10 +62,13 @@ class GivenType(Type):
 
 @dataclass(frozen=True)
 class EnumType(Type):
-    """An `enumeration E { A B }`."""
+    """An `enumeration E { A B }`.  `parameterised`: where a literal with parameters (`B(real)`, an
+    algebraic datatype) is declared; such an enumeration loads, and a check that meets it is
+    `unsupported` (`parameterised_enumeration`)."""
 
     qname: str
     literals: tuple[str, ...]
+    parameterised: Pos | None = field(default=None, compare=False)
 
     @property
     def name(self) -> str:
@@ -953,3 +956,24 @@ class Project:
                 if item.qname == qname:
                     return item
         return None
+
+
+def parameterised_enumeration(root: object) -> EnumType | None:
+    """An enumeration with parameterised literals met anywhere in `root` (an element: its
+    declarations, types and expressions), else None."""
+    seen: set[int] = set()
+    todo = [root]
+    while todo:
+        x = todo.pop()
+        if id(x) in seen or x is None or isinstance(x, (str, int, float, bool, Fraction)):
+            continue
+        seen.add(id(x))
+        if isinstance(x, EnumType) and x.parameterised is not None:
+            return x
+        if isinstance(x, (tuple, list, frozenset, set)):
+            todo.extend(x)
+        elif isinstance(x, dict):
+            todo.extend(x.values())
+        elif hasattr(x, "__dataclass_fields__"):
+            todo.extend(getattr(x, f) for f in x.__dataclass_fields__)
+    return None

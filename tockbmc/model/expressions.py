@@ -356,7 +356,13 @@ class ExprChecker:
                 self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
                            f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             elif self._is_literal(name):
-                self.error(callee, "unsupported: enumeration literals with parameters")
+                enum = (self.scope.resolve_global(name, "enum_literal") if "::" not in name
+                        else self.scope.resolve_global(name.rpartition("::")[0], "type"))
+                if isinstance(enum, ast.EnumType) and enum.parameterised is not None:
+                    for a in args_nodes:  # their types are not checked against the literal's parameters
+                        self.expr(a)
+                    return ast.EnumLiteral(enum, p, enum, name.rpartition("::")[2])
+                self.error(callee, f"'{name}' is an enumeration literal without parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
             else:

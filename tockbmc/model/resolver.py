@@ -204,14 +204,15 @@ class Resolver:
                 return ast.GivenType(decl.qname)
             if decl.kind == "enumeration":
                 literals = []
+                parameterised = None
                 for lit in tree.children[1:]:
                     token = lit.children[0]
-                    if len(lit.children) > 1:
-                        self.error(scope.path, lit, "unsupported: enumeration literals with parameters")
+                    if len(lit.children) > 1 and parameterised is None:
+                        parameterised = pos_of(scope.path, lit)  # loads; a check that meets it is unsupported
                     if str(token) in literals:
                         self.error(scope.path, token, f"duplicate literal '{token}'")
                     literals.append(str(token))
-                return ast.EnumType(decl.qname, tuple(literals))
+                return ast.EnumType(decl.qname, tuple(literals), parameterised)
             fields = []
             seen = set()
             for f in tree.children[1:]:

@@ -68,6 +68,11 @@ def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
 def query(project: ast.Project, a: ast.Assertion) -> Query:
     """The query for assertion `a`; raises `Unsupported` for forms not checked yet."""
     q = _query(project, a)
+    for part in (q.element, q.defined):
+        enum = ast.parameterised_enumeration(part)
+        if enum is not None:
+            raise Unsupported(enum.parameterised, f"enumeration {enum.name} has literals with parameters (an "
+                                                  "algebraic datatype), which are not encoded yet")
     return replace(q, timed=False) if a.timing == "untimed" else q
 
 
