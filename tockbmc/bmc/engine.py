@@ -154,6 +154,33 @@ class _Induction:
 Progress = Callable[[int], None]  # told each depth k a search has cleared: no run of k steps reaches the target
 
 
+def bmc_each(system: TransitionSystem, targets: list[Target], bound: int, timeout: float | None = None) -> list[bool]:
+    """For each target, whether some run of up to `bound` steps reaches it: one unrolling, each
+    depth asked once per target not yet reached (no k-induction; False also when time ran out)."""
+    clock = Clock(timeout)
+    goals = [t(system) for t in targets]
+    trans = system.trans()
+    u = Unroller(system)
+    solver = new_solver(system)
+    solver.add(u.at(system.init(), 0))
+    reached = [False] * len(goals)
+    for k in range(bound + 1):
+        solver.add(u.axioms_upto(k))
+        for j, goal in enumerate(goals):
+            if reached[j]:
+                continue
+            literal = z3.Bool(f"target{j}@{k}")
+            solver.add(z3.Implies(literal, u.at(goal, k)))
+            if not clock.arm(solver):
+                return reached
+            reached[j] = solver.check(literal) == z3.sat
+        if all(reached):
+            break
+        if k < bound:
+            solver.add(u.at(trans, k))
+    return reached
+
+
 def bmc(system: TransitionSystem, target: Target, bound: int, timeout: float | None = None,
         induction: bool = False, fewest_visible: bool = False, stop: Callable[[], bool] | None = None,
         progress: Progress | None = None) -> Outcome:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import z3
 
-from tockbmc.bmc.engine import Outcome, Progress, Status, bmc
+from tockbmc.bmc.engine import Outcome, Progress, Status, bmc, bmc_each
 from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.result import TraceStep, Verdict
@@ -130,12 +130,24 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
     if len(wanted) > REFUSALS_CAP:
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {REFUSALS_CAP} stable refusals after its traces "
                                           f"of up to {length} events, which gives no verdict")
+    def target_for(r: SpecRefusal) -> Target:
+        return lambda s: z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
+
+    # The refusals after one trace are searched together, on one unrolling (`bmc_each`); only one
+    # not found so is searched on its own, where k-induction may show that none is reachable.
+    by_trace: dict[tuple, list[SpecRefusal]] = {}
     for r in wanted:
+        by_trace.setdefault(tuple(r.events), []).append(r)
+    made: set[int] = set()
+    for events, group in by_trace.items():
+        shared = bmc_each(_following(make, SpecTrace(events, False)), [target_for(r) for r in group], bound,
+                          timeout())
+        made.update(id(r) for r, ok in zip(group, shared, strict=True) if ok)
+    for r in wanted:
+        if id(r) in made:
+            continue
         system = _following(make, SpecTrace(r.events, False))
-
-        def target(s: TransitionSystem, r: SpecRefusal = r) -> z3.BoolRef:
-            return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
-
+        target = target_for(r)
         outcome = _performs(system, target, bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
@@ -181,12 +193,25 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
         guards = {j: refused_before(r) for j, r in o.tocks}
         return make(lambda s: TraceFollower(s, SpecTrace(o.events, ticks), guards))
 
-    for o, r in checks:
-        def target(s: TransitionSystem, r: SpecRefusal | None = r) -> z3.BoolRef:
-            return z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None else followed(s)
+    def target_for(r: SpecRefusal | None) -> Target:
+        return lambda s: (z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None
+                          else followed(s))
 
+    # The checks of one observation are searched together on one unrolling (`bmc_each`); one not
+    # made so is searched on its own, where k-induction may show that it cannot be.
+    groups: dict[tuple[int, bool], list[int]] = {}
+    for n, (o, r) in enumerate(checks):
+        groups.setdefault((id(o), o.ticks and o.maximal and r is None), []).append(n)
+    made: set[int] = set()
+    for (_o, ticks), members in groups.items():
+        o = checks[members[0]][0]
+        shared = bmc_each(system_for(o, ticks), [target_for(checks[n][1]) for n in members], bound, timeout())
+        made.update(n for n, ok in zip(members, shared, strict=True) if ok)
+    for n, (o, r) in enumerate(checks):
+        if n in made:
+            continue
         ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
-        outcome = _performs(system_for(o, ticks), target, bound, timeout, progress)
+        outcome = _performs(system_for(o, ticks), target_for(r), bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         steps = observation_steps(o, channels, spec_name, ticks)
