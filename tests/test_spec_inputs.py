@@ -265,3 +265,33 @@ untimed assertion A : M refines Sp in the traces model
     project = tockbmc.load(tmp_path)
     [a] = check(project, ["A"], bound=12, config=configure(project, Ranges({"core_int": Range(Fraction(-1), Fraction(1))})))
     assert a.verdict == "holds", a.reason
+
+
+def test_startby_bounds_the_time_before_the_first_event(tmp_path: Path) -> None:
+    """tick-tock-CSP's `StartBy(P, d) = P [] (WAIT(d) ; USTOP)` (const1's Spec): M outputs e after
+    exactly two tocks (its deadline 0 makes it urgent), so `StartBy(e -> …, 2)` holds and `StartBy(e -> …, 1)` is violated by its
+    second tock; `wait(2) ; e -> …` (RoboTool's lowercase wait) holds too."""
+    rct = """
+interface IE { event e }
+stm M { uses IE  initial I  state S0 { entry wait(2) ; e <{0} }  final F
+  transition T0 { from I to S0 }  transition T1 { from S0 to F } }
+"""
+    spec = """
+timed csp Specs csp-begin
+Timed(OneStep) {
+  Two = StartBy(M::e.out -> M::terminate -> SKIP, 2)
+  One = StartBy(M::e.out -> M::terminate -> SKIP, 1)
+  Low = wait(2) ; M::e.out -> M::terminate -> SKIP
+}
+csp-end
+timed assertion T : M refines Two in the traces model
+timed assertion O : M refines One in the traces model
+timed assertion L : M refines Low in the traces model
+"""
+    symbolic, concrete = both(tmp_path, rct, spec)
+    for results in (symbolic, concrete):
+        assert results["T"].verdict == "holds", results["T"].reason
+        assert results["L"].verdict == "holds", results["L"].reason
+        o = results["O"]
+        assert o.verdict == "violated", o.reason
+        assert [s.event for s in o.trace if s.kind != "internal"] == ["tock", "tock"], o.trace

@@ -609,6 +609,14 @@ def _endby(timed: bool, p: Proc, d: int) -> Proc:
     return EndBy(p, d, 0)
 
 
+def _startby(timed: bool, p: Proc, d: int) -> Proc:
+    """tick-tock-CSP's `StartBy(P, d) = P [] (WAIT(d) ; USTOP)` in a Timed section (UoY-RoboStar
+    tick-tock-CSP, fdr/tick-tock.csp): P, with at most d tocks before its first event."""
+    if not isinstance(p, Proc) or not isinstance(d, int):
+        raise TypeError("StartBy takes a process and a number")
+    return Binary("external", p, Binary("seq", Wait(d), Stop(False), None, True), None, True)
+
+
 def _set_op(kind: str) -> Callable[..., EventSet | frozenset]:
     return lambda timed, a, b: EventSet(kind, (a, b)) if isinstance(a, EventSet) else _value_set_op(kind, a, b)
 
@@ -675,7 +683,7 @@ def _whole(prefix: tuple, b: EventSet) -> bool:
 
 _BUILTINS: dict[str, Callable[..., object]] = {
     "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
-    "EndBy": _endby, "Deadline": _endby, "timed_priority": lambda timed, p: p,
+    "EndBy": _endby, "Deadline": _endby, "StartBy": _startby, "wait": _wait, "timed_priority": lambda timed, p: p,
     "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
     "Union": _distributed("union"), "Inter": _distributed("inter"),
 }
