@@ -295,3 +295,35 @@ timed assertion L : M refines Low in the traces model
         o = results["O"]
         assert o.verdict == "violated", o.reason
         assert [s.event for s in o.trace if s.kind != "internal"] == ["tock", "tock"], o.trace
+
+
+def test_replicated_operators_over_sets_they_cannot_read_off_exactly(tmp_path: Path) -> None:
+    """Found by review: `diff({|M::a|}, diff(Events, {|M::b|}))` is empty, but the channel was kept
+    (a wrong `holds`): a difference whose removed set's extent is not read off is unsupported.
+    `union({|M::a.in|}, {M::a.in})` is one event, but `|||` ran two copies (a wrong `holds`): a
+    member a closure covers is dropped.  An `if` on an enumeration literal no longer crashes."""
+    rct = """
+enumeration E { X Y }
+stm M { event a event b event c : E
+  initial i state s {} state u {} state v {}
+  transition t0 { from i to s } transition t1 { from s to u trigger a } transition t2 { from u to v trigger a } }
+"""
+    spec = """
+timed csp S csp-begin
+Timed(OneStep) {
+  Sp1 = [] e : diff({|M::a|}, diff(Events, {|M::b|})) @ e -> e -> STOP
+  Sp2 = ||| e : union({|M::a.in|}, {M::a.in}) @ e -> STOP
+  Sp3 = M::c.in?x -> (if x == E::X then STOP else STOP) [] M::a.in -> M::a.in -> STOP
+}
+csp-end
+timed assertion A1 : M refines Sp1 in the traces model
+timed assertion A2 : M refines Sp2 in the traces model
+timed assertion A3 : M refines Sp3 in the traces model
+"""
+    symbolic, concrete = both(tmp_path, rct, spec)
+    for results in (symbolic, concrete):
+        assert results["A1"].verdict == "unsupported", results["A1"].reason
+        a2 = results["A2"]
+        assert a2.verdict == "violated" and [s.event for s in a2.trace if s.kind != "internal"] == \
+            ["M::a.in", "M::a.in"], a2.reason
+        assert results["A3"].verdict == "holds", results["A3"].reason

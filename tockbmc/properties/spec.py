@@ -339,8 +339,13 @@ class Evaluator:
         if k == "compare":
             a, op, b = self.eval(c[0], env), str(c[1]), self.eval(c[2], env)
             _no_other(self, t, a, b)
-            return {"==": a == b, "!=": a != b, "<": a < b, "<=": a <= b, ">": a > b,  # type: ignore[operator]
-                    ">=": a >= b}[op]  # type: ignore[operator]
+            if op in ("==", "!="):
+                return (a == b) == (op == "==")
+            try:  # only the operator asked for: enumeration literals have no order
+                return {"<": lambda: a < b, "<=": lambda: a <= b, ">": lambda: a > b,  # type: ignore[operator]
+                        ">=": lambda: a >= b}[op]()  # type: ignore[operator]
+            except TypeError:
+                raise self.error(t, f"'{op}' compares numbers") from None
         if k == "arith":
             x, op, y = self.number(c[0], env), str(c[1]), self.number(c[2], env)
             if op in "/%" and y == 0:
@@ -650,7 +655,13 @@ def _members(a: EventSet) -> list[object] | None:
         return list(a.items)
     if a.kind == "union":
         left, right = _members(a.items[0]), _members(a.items[1])
-        return None if left is None or right is None else list(dict.fromkeys([*left, *right]))
+        if left is None or right is None:
+            return None
+        both = list(dict.fromkeys([*left, *right]))
+        # members must not overlap (`|||` runs one process per member): one a channel's closure covers goes
+        closures = [m for m in both if isinstance(m, tuple) and m and m[-1] is ANY]
+        return [m for m in both if not (isinstance(m, tuple)
+                                        and any(c != m and _extends(_open(m), c[:-1]) for c in closures))]
     if a.kind == "diff":
         kept = _members(a.items[0])
         if kept is None:
@@ -662,14 +673,21 @@ def _members(a: EventSet) -> list[object] | None:
                     out.append(m)
                 continue
             prefix = m[:-1]
-            if a.items[1].contains((*prefix, ANY)) and _whole(prefix, a.items[1]):
-                continue
+            if a.items[1].contains((*prefix, ANY)):
+                if _whole(prefix, a.items[1]):
+                    continue
+                return None  # removed in part, or by a set whose extent is not read off (`diff(Events, …)`)
             if any(_extends(e, prefix) or _extends(prefix, e) for e in a.items[1].mentions()) \
                     or a.items[1].kind == "all":
                 return None  # part of the channel removed
             out.append(m)
         return out
     return None
+
+
+def _open(m: tuple) -> tuple:
+    """A member's fixed fields: a closure's without its `ANY`."""
+    return m[:-1] if m and m[-1] is ANY else m
 
 
 def _whole(prefix: tuple, b: EventSet) -> bool:
