@@ -207,3 +207,17 @@ def test_sums_load_up_to_the_nesting_limit() -> None:
     """A 480-term sum loads; a 1000-term one is nested deeper than `MAX_NESTING` (README, "Limits")."""
     assert isinstance(check_load({"m.rct": DEEP.format("+".join(["1"] * 480))}), Project)
     assert isinstance(deep_outcome("+".join(["1"] * 1000)), ModelError)
+
+
+def test_a_real_with_a_huge_power_of_two_denominator_is_written_as_a_fraction() -> None:
+    """The differential benchmark hung in a worker (2.4 GB, minutes) writing a real whose
+    denominator was a huge power of two as an exact decimal, one digit per halving: past 64
+    places it is written as the fraction it is."""
+    from fractions import Fraction
+
+    from tockbmc.model.numbers import real_text
+
+    assert real_text(Fraction(3, 4)) == "0.75" and real_text(Fraction(-5, 2)) == "-2.5"
+    assert real_text(Fraction(1, 2**64)) == "0." + str(5**64).rjust(64, "0")
+    assert real_text(Fraction(1, 2**65)) == f"1/{2**65}"
+    assert real_text(Fraction(1, 2**200_000)).startswith("1/")

@@ -20,6 +20,9 @@ def int_text(n: int) -> str:
     return str(Decimal(n))
 
 
+_PLACES = 64  # beyond, a decimal is longer than the fraction it writes (a denominator of 2**1000000 hung)
+
+
 def real_text(value: Fraction) -> str:
     """`value` as an exact decimal (`0.5`, `-1.25`, `3`) when it has one, else as `p/q`."""
     num, den = value.numerator, value.denominator
@@ -31,7 +34,7 @@ def real_text(value: Fraction) -> str:
     while rest % 5 == 0:
         rest //= 5
         fives += 1
-    if rest != 1:
+    if rest != 1 or max(twos, fives) > _PLACES:  # no short decimal: as a fraction, exactly
         return f"{int_text(num)}/{int_text(den)}"
     places = max(twos, fives)
     digits = int_text(abs(num) * 10**places // den).rjust(places + 1, "0")
