@@ -221,3 +221,14 @@ def test_a_real_with_a_huge_power_of_two_denominator_is_written_as_a_fraction() 
     assert real_text(Fraction(1, 2**64)) == "0." + str(5**64).rjust(64, "0")
     assert real_text(Fraction(1, 2**65)) == f"1/{2**65}"
     assert real_text(Fraction(1, 2**200_000)).startswith("1/")
+
+
+def test_a_long_sequence_is_written_with_its_count() -> None:
+    """A differential worker hung writing a sequence value item by item (each integer's text
+    computed 10**1000 to decide how to write it): 32 items are written, then the count."""
+    from tockbmc.model import ast
+    from tockbmc.model.data import text_of
+
+    text = text_of(ast.SeqType(ast.INT), tuple(range(10**6)))
+    assert text.endswith(", 31, … (1000000 in all)>") and len(text) < 200
+    assert text_of(ast.SetType(ast.INT), frozenset({2, 1})) == "{1, 2}"

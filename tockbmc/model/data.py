@@ -22,6 +22,9 @@ class Product(tuple):
         return "Product(" + tuple.__repr__(self) + ")"
 
 
+_SHOWN = 32  # items of a sequence or set written out; the rest are counted (a run can build millions)
+
+
 def text_of(t: ast.Type | None, v: object) -> str:
     """FDR-style text of a value of type `t`."""
     if isinstance(v, dict):
@@ -33,9 +36,11 @@ def text_of(t: ast.Type | None, v: object) -> str:
         return "(" + ", ".join(text_of(pt, x) for pt, x in zip(ts, v, strict=True)) + ")"
     element = t.element if isinstance(t, (ast.SeqType, ast.SetType)) else None
     if isinstance(v, tuple):
-        return "<" + ", ".join(text_of(element, x) for x in v) + ">"
+        shown = [text_of(element, x) for x in list(v)[:_SHOWN]]
+        return "<" + ", ".join(shown) + (f", … ({len(v)} in all)" if len(v) > _SHOWN else "") + ">"
     if isinstance(v, frozenset):
-        return "{" + ", ".join(sorted(text_of(element, x) for x in v)) + "}"
+        items = sorted(text_of(element, x) for x in list(v)[: 4 * _SHOWN])
+        return "{" + ", ".join(items[:_SHOWN]) + (f", … ({len(v)} in all)" if len(v) > _SHOWN else "") + "}"
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, Fraction):
