@@ -211,15 +211,16 @@ def test_sums_load_up_to_the_nesting_limit() -> None:
 
 def test_a_real_with_a_huge_power_of_two_denominator_is_written_as_a_fraction() -> None:
     """The differential benchmark hung in a worker (2.4 GB, minutes) writing a real whose
-    denominator was a huge power of two as an exact decimal, one digit per halving: past 64
-    places it is written as the fraction it is."""
+    denominator was a huge power of two as an exact decimal, one digit per halving: a decimal with
+    more than 64 places beyond its denominator's digits is written as the fraction it is."""
     from fractions import Fraction
 
     from tockbmc.model.numbers import real_text
 
     assert real_text(Fraction(3, 4)) == "0.75" and real_text(Fraction(-5, 2)) == "-2.5"
     assert real_text(Fraction(1, 2**64)) == "0." + str(5**64).rjust(64, "0")
-    assert real_text(Fraction(1, 2**65)) == f"1/{2**65}"
+    assert real_text(Fraction(1, 2**200)) == f"1/{2**200}"
+    assert real_text(Fraction(1, 10**400)) == "0." + "0" * 399 + "1"
     assert real_text(Fraction(1, 2**200_000)).startswith("1/")
 
 

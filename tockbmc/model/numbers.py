@@ -20,7 +20,7 @@ def int_text(n: int) -> str:
     return str(Decimal(n))
 
 
-_PLACES = 64  # beyond, a decimal is longer than the fraction it writes (a denominator of 2**1000000 hung)
+_PLACES = 64  # decimal places allowed beyond the denominator's digits (a denominator of 2**1000000 hung)
 
 
 def real_text(value: Fraction) -> str:
@@ -34,7 +34,9 @@ def real_text(value: Fraction) -> str:
     while rest % 5 == 0:
         rest //= 5
         fives += 1
-    if rest != 1 or max(twos, fives) > _PLACES:  # no short decimal: as a fraction, exactly
+    # A decimal with many more places than the denominator has digits (1/2**N has N) is written as
+    # the fraction it is; a decimal literal's (1e-400: 10**400) is not longer than its fraction.
+    if rest != 1 or max(twos, fives) > _PLACES + den.bit_length() // 3:
         return f"{int_text(num)}/{int_text(den)}"
     places = max(twos, fives)
     digits = int_text(abs(num) * 10**places // den).rjust(places + 1, "0")
