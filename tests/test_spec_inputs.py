@@ -70,6 +70,19 @@ untimed assertion Z : CT refines Zero in the traces model
 """
 
 
+def symbolic_only(tmp_path: Path, rct: str, assertions: str, name: str, ranges: Ranges) -> Result:
+    """One assertion checked by BMC alone (bound 12)."""
+    write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
+    project = tockbmc.load(tmp_path)
+    [r] = check(project, [name], bound=12, config=configure(project, ranges))
+    return r
+
+
+def visible(r: Result) -> list[str]:
+    """The events of a result's trace, internal steps left out."""
+    return [step.event for step in r.trace if step.kind != "internal"]
+
+
 def both(tmp_path: Path, rct: str, assertions: str, ranges: Ranges = NAT) -> tuple[dict[str, Result], dict[str, Result]]:
     write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
     project = tockbmc.load(tmp_path)
@@ -89,7 +102,7 @@ def test_a_specification_reads_what_it_received(tmp_path: Path) -> None:
             assert results[name].verdict == "holds", (name, results[name].reason)
         s = results["S"]
         assert s.verdict == "violated", s.reason
-        shown = [step.event for step in s.trace if step.kind != "internal"]
+        shown = visible(s)
         v = int(shown[0].rsplit(".", 1)[1])
         assert shown == [f"CT::In.in.{v}", f"CT::Out.out.{v + 1}"], shown
 
@@ -162,7 +175,7 @@ untimed assertion N : CT refines NoOut in the traces model
         assert results["A"].verdict == "holds", results["A"].reason
         n = results["N"]
         assert n.verdict == "violated", n.reason
-        shown = [step.event for step in n.trace if step.kind != "internal"]
+        shown = visible(n)
         assert shown[0].startswith("CT::In.in.") and shown[1].startswith("CT::Out.out."), shown
 
 
@@ -203,7 +216,7 @@ untimed assertion N : CT refines S in the traces model
     for results in (symbolic, concrete):
         for name in ("U", "T"):
             r = results[name]
-            assert r.verdict == "violated" and [s.event for s in r.trace if s.kind != "internal"] == ["tock"], r.reason
+            assert r.verdict == "violated" and visible(r) == ["tock"], r.reason
         assert "says neither `timed` nor `untimed`" in (results["U"].reason or "")
         assert "says neither" not in (results["T"].reason or "")
         assert results["N"].verdict == "holds", results["N"].reason
@@ -223,47 +236,44 @@ def test_a_real_input_is_not_listed_for_bmc(tmp_path: Path) -> None:
     """BMC takes every real of `core_real=0..1` (0.5 too); the interpreter lists 0 and 1.  A
     specification reading the value is unsupported in BMC (it said `holds`, missing inp.in.0.5,
     f.out)."""
-    write_files(tmp_path, {"m.rct": ECHO_REAL, "m.assertions": """
+    a = symbolic_only(tmp_path, ECHO_REAL, """
 untimed csp Sp csp-begin
 Sp = M::inp.in?x -> ((x == 0 or x == 1) & M::f.out -> STOP [] (x != 0 and x != 1) & M::g.out -> STOP)
 csp-end
 untimed assertion A : M refines Sp in the traces model
-"""})
-    project = tockbmc.load(tmp_path)
-    [a] = check(project, ["A"], bound=12, config=configure(project, Ranges({"core_real": Range(Fraction(0), Fraction(1))})))
+""", "A",
+                      Ranges({"core_real": Range(Fraction(0), Fraction(1))}))
     assert a.verdict == "unsupported" and "does not track" in (a.reason or ""), (a.verdict, a.reason)
 
 
 def test_a_natural_bounded_only_by_core_int_is_not_listed_for_bmc(tmp_path: Path) -> None:
     """With `core_int=-1..1` alone BMC leaves `nat` unbounded (the interpreter lists 0..1): a
     specification naming inp.in.0 and inp.in.1 is violated by inp.in.2 (it said `holds`)."""
-    write_files(tmp_path, {"m.rct": ECHO_REAL.replace("real", "nat"), "m.assertions": """
+    b = symbolic_only(tmp_path, ECHO_REAL.replace("real", "nat"), """
 untimed csp Sq csp-begin
 Sq = M::inp.in.0 -> M::f.out -> STOP [] M::inp.in.1 -> M::f.out -> STOP
 csp-end
 untimed assertion B : M refines Sq in the traces model
-"""})
-    project = tockbmc.load(tmp_path)
-    [b] = check(project, ["B"], bound=12, config=configure(project, Ranges({"core_int": Range(Fraction(-1), Fraction(1))})))
+""", "B",
+                      Ranges({"core_int": Range(Fraction(-1), Fraction(1))}))
     assert b.verdict == "violated", b.reason
-    assert [s.event for s in b.trace if s.kind != "internal"][0] not in ("M::inp.in.0", "M::inp.in.1")
+    assert visible(b)[0] not in ("M::inp.in.0", "M::inp.in.1")
 
 
 def test_an_event_named_like_a_memory_channel_is_the_models(tmp_path: Path) -> None:
     """`set_speed` is refused as RoboTool's write of variable `speed` only when it is not an event of
     the model."""
-    write_files(tmp_path, {"m.rct": """
+    a = symbolic_only(tmp_path, """
 interface IE { event set_speed : int }
 stm M { uses IE  var speed : int  initial I  state S0 {}
   transition T0 { from I to S0 }  transition T1 { from S0 to S0 trigger set_speed?speed } }
-""", "m.assertions": """
+""", """
 untimed csp Sp csp-begin
 Sp = M::set_speed.in?x -> Sp
 csp-end
 untimed assertion A : M refines Sp in the traces model
-"""})
-    project = tockbmc.load(tmp_path)
-    [a] = check(project, ["A"], bound=12, config=configure(project, Ranges({"core_int": Range(Fraction(-1), Fraction(1))})))
+""", "A",
+                      Ranges({"core_int": Range(Fraction(-1), Fraction(1))}))
     assert a.verdict == "holds", a.reason
 
 
@@ -294,7 +304,7 @@ timed assertion L : M refines Low in the traces model
         assert results["L"].verdict == "holds", results["L"].reason
         o = results["O"]
         assert o.verdict == "violated", o.reason
-        assert [s.event for s in o.trace if s.kind != "internal"] == ["tock", "tock"], o.trace
+        assert visible(o) == ["tock", "tock"], o.trace
 
 
 def test_replicated_operators_over_sets_they_cannot_read_off_exactly(tmp_path: Path) -> None:
@@ -324,6 +334,5 @@ timed assertion A3 : M refines Sp3 in the traces model
     for results in (symbolic, concrete):
         assert results["A1"].verdict == "unsupported", results["A1"].reason
         a2 = results["A2"]
-        assert a2.verdict == "violated" and [s.event for s in a2.trace if s.kind != "internal"] == \
-            ["M::a.in", "M::a.in"], a2.reason
+        assert a2.verdict == "violated" and visible(a2) == ["M::a.in", "M::a.in"], a2.reason
         assert results["A3"].verdict == "holds", results["A3"].reason
