@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import z3
 
 from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
-from tockbmc.bmc.engine import Outcome, Progress, Status
+from tockbmc.bmc.engine import SPENT, Outcome, Progress, Status
 from tockbmc.bmc.inclusion import included
 from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
@@ -97,7 +97,7 @@ class _Check:
         self.abstracted = False
 
     def time_left(self) -> float | None:
-        return None if self.timeout is None else max(0.001, self.timeout - (time.perf_counter() - self.start))
+        return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
 
     def result(self, verdict: Verdict, reason: str | None, *, proof: Proof, depth: int | None,
                trace: tuple[TraceStep, ...] = (), extra: dict | None = None) -> Result:

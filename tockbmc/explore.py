@@ -19,6 +19,7 @@ from fractions import Fraction
 
 import z3
 
+from tockbmc.bmc.engine import SPENT
 from tockbmc.bmc.regions import Region, Witness, carried, condition_text, region, simplified
 from tockbmc.bmc.witness import decode, initial_choices, python_value, scalar_text
 from tockbmc.check import DEFAULT_BOUND, own_z3_context, replay_trace
@@ -92,7 +93,7 @@ class _Explore:
         self.start = time.perf_counter()
 
     def left(self) -> float | None:
-        return None if self.timeout is None else max(0.001, self.timeout - (time.perf_counter() - self.start))
+        return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
 
     def out(self, status: str, **fields: object) -> Exploration:
         return Exploration(assertion=self.a.name, text=self.a.text, pos=str(self.a.pos), status=status,

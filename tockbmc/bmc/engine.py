@@ -57,6 +57,15 @@ class Outcome:
     invariant: str = ""  # for a proof by invariant: the invariant, in the model's names
 
 
+SPENT = 0.001  # seconds: what a check's time left reads once its timeout has passed (never 0 for Z3)
+
+
+def spent(time_left: Callable[[], float | None]) -> bool:
+    """Whether a check's time is up (`time_left` as `_Check.time_left` gives it: at least `SPENT`)."""
+    left = time_left()
+    return left is not None and left <= SPENT
+
+
 class Clock:
     """The time left of one search, given to each solver call (Z3's timeout is per call)."""
 

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 
 import z3
 
-from tockbmc.bmc.engine import Outcome, Progress, Status, bmc, bmc_each
+from tockbmc.bmc.engine import Outcome, Progress, Status, bmc, bmc_each, spent
 from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.result import TraceStep, Verdict
@@ -51,6 +52,8 @@ def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Call
                              progress: Progress | None) -> SpecTrace:
     """The shortest prefix of t that the element provably cannot perform (t itself if none shorter)."""
     for n in range(1, len(t.events) + 1):
+        if spent(timeout):
+            break
         prefix = SpecTrace(t.events[:n], t.ticks and n == len(t.events))
         if bmc(_following(make, prefix), followed, bound, timeout(), induction=True,
                progress=progress).status == Status.PROVED:
@@ -58,12 +61,16 @@ def _shortest_failing_prefix(make: Make, t: SpecTrace, bound: int, timeout: Call
     return t
 
 
-def _performs(system: TransitionSystem, target: Target, bound: int, timeout: Callable[[], float | None],
-              progress: Progress | None) -> Outcome:
+def _performs(make_system: Callable[[], TransitionSystem], target: Target, bound: int,
+              timeout: Callable[[], float | None], progress: Progress | None) -> Outcome:
     """Whether the element can perform what the specification does (reach `target`): searched first
     without trying k-induction at each depth, since the element usually can and the proofs are most
     of the cost; only a search that finds nothing is repeated with k-induction, which may show that
-    no number of steps reaches it."""
+    no number of steps reaches it.  Once the check's time is up, nothing is built (a system with a
+    follower takes a while: a specification with a hundred observations overran a 3 s timeout by 50 s)."""
+    if spent(timeout):
+        return Outcome(Status.UNKNOWN, 0, reason="out of time")
+    system = make_system()
     quick = bmc(system, target, bound, timeout(), induction=False, progress=progress)
     if quick.status != Status.NOT_FOUND:  # found, or out of time, or Z3 gave up: induction would not help
         return quick
@@ -90,7 +97,7 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {cap} traces of {wanted} events; only those "
                                           f"of up to {length} events could be listed, which gives no verdict")
     for t in traces:
-        outcome = _performs(_following(make, t), followed, bound, timeout, progress)
+        outcome = _performs(partial(_following, make, t), followed, bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         if outcome.status == Status.PROVED:
@@ -140,15 +147,16 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
         by_trace.setdefault(tuple(r.events), []).append(r)
     made: set[int] = set()
     for events, group in by_trace.items():
+        if spent(timeout):
+            break
         shared = bmc_each(_following(make, SpecTrace(events, False)), [target_for(r) for r in group], bound,
                           timeout())
         made.update(id(r) for r, ok in zip(group, shared, strict=True) if ok)
     for r in wanted:
         if id(r) in made:
             continue
-        system = _following(make, SpecTrace(r.events, False))
-        target = target_for(r)
-        outcome = _performs(system, target, bound, timeout, progress)
+        trace = SpecTrace(r.events, False)
+        outcome = _performs(partial(_following, make, trace), target_for(r), bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         shown = [_event_text(e) for e in r.events]
@@ -157,7 +165,7 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
         what = (f"{_after(r)} {spec_name} can be stable accepting {acceptance_text(channels, r.acceptance)}, "
                 f"and {element}")
         if outcome.status == Status.PROVED:
-            if model == "failures divergences" and may_diverge(system):
+            if model == "failures divergences" and may_diverge(_following(make, trace)):
                 return Inclusion(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest in any number "
                                                   f"of steps ({outcome.reason}), but it may diverge, which in the "
                                                   "failures-divergences model allows every refusal", steps)
@@ -204,6 +212,8 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
         groups.setdefault((id(o), o.ticks and o.maximal and r is None), []).append(n)
     made: set[int] = set()
     for (_o, ticks), members in groups.items():
+        if spent(timeout):
+            break
         o = checks[members[0]][0]
         shared = bmc_each(system_for(o, ticks), [target_for(checks[n][1]) for n in members], bound, timeout())
         made.update(n for n, ok in zip(members, shared, strict=True) if ok)
@@ -211,7 +221,7 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
         if n in made:
             continue
         ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
-        outcome = _performs(system_for(o, ticks), target_for(r), bound, timeout, progress)
+        outcome = _performs(partial(system_for, o, ticks), target_for(r), bound, timeout, progress)
         if outcome.status == Status.FOUND:
             continue
         steps = observation_steps(o, channels, spec_name, ticks)
