@@ -1025,3 +1025,37 @@ assertion NT: M does not terminate.
     assert r.reason and re.search(rf"(m\.assertions:|line ){line}\b", r.reason), (line, r.reason)
     expect(rs["G"], "violated", ["M::e.out.1"])
     expect(rs["NT"], "violated", ["M::e.out.1", "M::terminate"])
+
+
+COLOURS_RCT = """
+package pk
+enumeration Colour { Red Green Blue }
+stm M {
+  event c : Colour
+  var x : Colour
+  initial i
+  state S {}
+  transition t0 { from i to S }
+  transition t1 { from S to S trigger c?x }
+}
+"""
+
+
+def test_replicated_choice_over_an_enumeration_named_as_robotool_names_it(tmp_path) -> None:
+    """`pk_Colour` (RoboTool's name for type Colour of package pk), `Colour` and `pk::Colour` are the
+    set of its literals: M accepts any colour, so it refines a specification offering every one
+    (A1) and not one offering every one but Blue (A2, whose counterexample is `M::c.in.Colour::Blue`)."""
+    assertions = """
+untimed csp Specs csp-begin
+All = [] x : pk_Colour @ pk::M::c.in.x -> All
+AllToo = [] x : Colour @ pk::M::c.in.x -> AllToo
+NoBlue = [] x : diff(pk::Colour, {Colour_Blue}) @ pk::M::c.in.x -> NoBlue
+csp-end
+untimed assertion A1: pk::M refines All in the traces model.
+untimed assertion A3: pk::M refines AllToo in the traces model.
+untimed assertion A2: pk::M refines NoBlue in the traces model.
+"""
+    r = run(tmp_path, COLOURS_RCT, assertions)
+    assert r["A1"].verdict == "holds" and r["A3"].verdict == "holds", (r["A1"].reason, r["A3"].reason)
+    assert r["A2"].verdict == "violated" and [s.event for s in r["A2"].trace if s.kind != "internal"] == [
+        "M::c.in.Colour::Blue"], r["A2"]

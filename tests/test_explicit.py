@@ -22,7 +22,7 @@ from tockbmc.check import check
 from tockbmc.cli import cli
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit, python_settings, ranges_dict
-from tockbmc.explicit.interpreter import Interpreter
+from tockbmc.explicit.interpreter import Interpreter, Unbounded
 from tockbmc.explicit.replay import ReplayFailure, replay
 from tockbmc.properties.queries import query
 
@@ -32,7 +32,7 @@ REALISTIC = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_real": R
 
 def test_engines_agree_on_the_corpus() -> None:
     """Every corpus assertion both engines decide gets the same verdict from both (bound 12)."""
-    compared, disagreements = 0, []
+    compared, disagreements, unbounded = 0, [], set()
     for case in sorted((CONFORMANCE / "robochart").iterdir()):
         if case.name in NOT_CHECKED:
             continue
@@ -40,8 +40,13 @@ def test_engines_agree_on_the_corpus() -> None:
             project = load(case)
         except ModelError:
             continue
-        for r in check_explicit(project, None, 12, Ranges(), {}, timeout=3, max_states=100_000,
-                                config=robotool_config(project)):
+        try:
+            decided = check_explicit(project, None, 12, Ranges(), {}, timeout=3, max_states=100_000,
+                                     config=robotool_config(project))
+        except Unbounded:  # RoboTool's ranges bound no sequence's length: the explicit engine cannot list them
+            unbounded.add(case.name)
+            continue
+        for r in decided:
             found = results().get((case.name, r.assertion))  # None: left to benchmarks/conformance.py (SLOW)
             if found is None:
                 continue
@@ -53,6 +58,9 @@ def test_engines_agree_on_the_corpus() -> None:
                 disagreements.append((case.name, r.assertion, bmc_verdict, r.verdict, r.reason))
     assert not disagreements
     assert compared >= 55  # the count when this test was written
+    # SequenceAndProductTest's operation `test` (checked on its own, docs/semantics.md §4.8) has
+    # `var a : Seq(int)` with no initial value: any sequence, of no bounded length
+    assert unbounded == {"SequenceAndProductTest"}
 
 
 @pytest.mark.parametrize("name, verdict", [("A1", "violated"), ("A2", "violated"), ("A5", "violated"),

@@ -110,6 +110,9 @@ class _Flattener:
         self.shared: dict[str, ast.Variable] = {}
         self.scopes: dict[tuple[int, str], str] = {}
         self.platform: set[str] = set()
+        # (component, event) of a machine's event on a bidirectional boundary connection: listed
+        # as both an input and an output of its controller, and joined to the outside once
+        self.both_ways: set[tuple[int, str]] = set()
 
     def machine(self, m: ast.StateMachine, instance: str,
                 defined: dict[str, ast.OperationDef] | None = None, path: tuple[str, ...] = ()) -> int:
@@ -170,16 +173,22 @@ class _Flattener:
         inputs: dict[str, list[tuple[Port, bool]]] = {}
         outputs: dict[str, list[tuple[Port, bool]]] = {}
         for conn in c.connections:
-            if conn.bidirectional:
-                raise Unsupported(conn.pos, "bidirectional connections are not encoded yet")
             src = index.get(conn.source)
             dst = index.get(conn.target)
+            if conn.bidirectional:
+                _boundary_only(conn, src is not None and dst is not None, "two machines")
             if src is not None and dst is not None:
                 self.link(Port(src, conn.source_event), Port(dst, conn.target_event), conn.asynchronous, conn.pos)
             elif dst is not None:
                 inputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), conn.asynchronous))
+                if conn.bidirectional:
+                    outputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), False))
+                    self.both_ways.add((dst, conn.target_event.name))
             elif src is not None:
                 outputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), conn.asynchronous))
+                if conn.bidirectional:
+                    inputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), False))
+                    self.both_ways.add((src, conn.source_event.name))
             else:
                 raise Unsupported(conn.pos, "a connection that joins no state machine")
         return inputs, outputs
@@ -189,6 +198,9 @@ class _Flattener:
         """Join the machine ports behind an event to the visible event `outer::event`."""
         external = External(f"{outer}::{event.name}", event)
         for port, inner_async in ports:
+            if (port.component, port.event.name) in self.both_ways and any(
+                    link.port_of(port.component, port.event.name) for link in self.links):
+                continue  # joined already, the other way round: a synchronous link carries both directions
             if asynchronous and inner_async:
                 raise Unsupported(pos, "two asynchronous connections in series are not encoded yet")
             if incoming:
@@ -238,9 +250,9 @@ def of_module(m: ast.Module) -> Network:
         ends[ci.name] = (ci.controller, ins, outs)
     used: set[tuple[str, str]] = set()
     for conn in m.connections:
-        if conn.bidirectional:
-            raise Unsupported(conn.pos, "bidirectional connections are not encoded yet")
         src, dst = ends.get(conn.source), ends.get(conn.target)
+        if conn.bidirectional:
+            _boundary_only(conn, src is not None and dst is not None, "two controllers")
         if src is not None and dst is not None:
             used |= {(conn.source, conn.source_event.name), (conn.target, conn.target_event.name)}
             for p, a in src[2].get(conn.source_event.name, []):
@@ -252,10 +264,12 @@ def of_module(m: ast.Module) -> Network:
         # the module), `(_async)` or not; only connections between controllers get a buffer.
         elif dst is not None:  # platform → controller
             used.add((conn.target, conn.target_event.name))
-            f.expose(m.name, conn.source_event, dst[1].get(conn.target_event.name, []), True, False, conn.pos)
+            f.expose(m.name, conn.source_event, _ends(dst, conn.target_event.name, True, conn.bidirectional, f),
+                     True, False, conn.pos)
         elif src is not None:  # controller → platform
             used.add((conn.source, conn.source_event.name))
-            f.expose(m.name, conn.target_event, src[2].get(conn.source_event.name, []), False, False, conn.pos)
+            f.expose(m.name, conn.target_event, _ends(src, conn.source_event.name, False, conn.bidirectional, f),
+                     False, False, conn.pos)
     # Controller events the module leaves unconnected stay visible under the controller's name.
     for name, (c, ins, outs) in ends.items():
         for table, incoming in ((ins, True), (outs, False)):
@@ -267,6 +281,31 @@ def of_module(m: ast.Module) -> Network:
     return f.network()
 
 
+def _boundary_only(conn: ast.Connection, inner: bool, what: str) -> None:
+    """A bidirectional connection (`[mult]`) is encoded between a machine and its controller's own
+    event, or a controller and the platform: RoboTool renames the whole channel there, so both
+    directions are the outer element's (docs/semantics.md §5.3).  Not between two machines or two
+    controllers, nor asynchronous inside a controller."""
+    if inner:
+        raise Unsupported(conn.pos, f"bidirectional connections between {what} are not encoded yet")
+    if conn.asynchronous and what == "two machines":
+        raise Unsupported(conn.pos, "asynchronous bidirectional connections of a machine are not encoded yet")
+
+
+def _ends(end: tuple[ast.Controller, dict, dict], event: str, incoming: bool, both: bool,
+          f: _Flattener) -> list[tuple[Port, bool]]:
+    """The machine ports behind a controller's event joined to the platform: those of the
+    connection's direction, and with `both` (`[mult]`) those of the other direction too."""
+    _c, ins, outs = end
+    ports = list((ins if incoming else outs).get(event, []))
+    if both:
+        for port, inner_async in (outs if incoming else ins).get(event, []):
+            if all(port != p for p, _ in ports):
+                ports.append((port, inner_async))
+            f.both_ways.add((port.component, port.event.name))
+    return ports
+
+
 def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
                defined: dict[str, ast.OperationDef] | None = None, timed: bool = True) -> Network:
     """The network of a machine (with the operations its controller defines), controller or module;
@@ -274,8 +313,8 @@ def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
     if not timed:
         element, defined = untimed(element, defined)
         return replace(network_of(element, defined), timed=False)
-    if isinstance(element, ast.StateMachine):
-        return of_machine(element, defined)
+    if isinstance(element, ast.StateMachine):  # an operation on its own ends with ✓ alone, as a module does
+        return replace(of_machine(element, defined), hidden_termination=isinstance(element, ast.OperationMachine))
     if isinstance(element, ast.Controller):
         return of_controller(element)
     return replace(of_module(element), hidden_termination=True)

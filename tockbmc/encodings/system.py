@@ -294,7 +294,8 @@ class TransitionSystem:
                 # A required variable is shared under its scope key; anything else is the machine's own.
                 key = self.shared_key(c, v)
                 decl = self.network.shared.get(key, v) if key is not None else v
-                if v.constant and v.kind != "parameter":  # parameters of inlined operations are assigned
+                # parameters of inlined operations are assigned; an operation's own, checked alone, are constants
+                if v.constant and (v.kind != "parameter" or not scope):
                     if key is not None and key in shared_consts:
                         consts[id(v)] = shared_consts[key]
                         continue

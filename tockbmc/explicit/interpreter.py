@@ -745,8 +745,9 @@ class Interpreter:
         self._tuples: dict[tuple, tuple] = {}
         self._shared_owners: set[str] = set()
         self.network = not isinstance(element, ast.StateMachine)
-        # a module's terminate is hidden: an internal step, then ✓ (docs/semantics.md §5.6)
-        self.hidden_termination = isinstance(element, ast.Module)
+        # a module's terminate is hidden: an internal step, then ✓ (docs/semantics.md §5.6); so is an
+        # operation's checked on its own (§4.8)
+        self.hidden_termination = isinstance(element, (ast.Module, ast.OperationMachine))
         self._shared_vars: list[ast.Variable] = []
 
         if isinstance(element, ast.StateMachine):
@@ -823,18 +824,37 @@ class Interpreter:
         b_in: dict[str, list] = defaultdict(list)
         b_out: dict[str, list] = defaultdict(list)
         for c in ctrl.connections:
-            if c.bidirectional:
-                raise NotInterpretable(c.pos, "bidirectional connections")
+            if c.bidirectional and (c.source in local) == (c.target in local):
+                raise NotInterpretable(c.pos, "bidirectional connections between two machines")
+            if c.bidirectional and c.asynchronous:
+                raise NotInterpretable(c.pos, "asynchronous bidirectional connections of a machine")
             if c.source in local and c.target in local:
                 self._link(c.asynchronous, (local[c.source], c.source_event.name),
                            (local[c.target], c.target_event.name), None, c.target_event.type, c.pos)
             elif c.source == ctrl.name and c.target in local:
                 b_in[c.source_event.name].append((local[c.target], c.target_event.name, c.asynchronous, c))
+                if c.bidirectional:  # RoboTool renames the whole channel: the machine's outputs are the controller's too
+                    b_out[c.source_event.name].append((local[c.target], c.target_event.name, False, c))
             elif c.source in local and c.target == ctrl.name:
                 b_out[c.target_event.name].append((local[c.source], c.source_event.name, c.asynchronous, c))
+                if c.bidirectional:
+                    b_in[c.target_event.name].append((local[c.source], c.source_event.name, False, c))
             else:
                 raise NotInterpretable(c.pos, f"connection from {c.source} to {c.target}")
         return b_in, b_out
+
+    def _both_ways(self, info: tuple, event: str, vis: str, pos: ast.Pos) -> None:
+        """A bidirectional connection to the platform (`[mult]`): RoboTool renames the controller's
+        whole channel, so every machine port behind the event, whichever way its own connection
+        goes, is joined to the module's event in both directions (the BMC encoding's one
+        synchronous link carries both).  Only the links not made yet are added."""
+        _ctrl, b_in, b_out = info
+        ports = {(i, port): (i, port, a, c) for i, port, a, c in (*b_in.get(event, []), *b_out.get(event, []))}
+        for key, entry in ports.items():
+            if key not in self.in_links:
+                self._boundary_env([entry], vis, True, False, pos)
+            if key not in self.out_link:
+                self._boundary_env([entry], vis, False, False, pos)
 
     def _boundary_env(self, entries: list, vis: str, inbound: bool, outer_async: bool = False,
                       pos: ast.Pos | None = None) -> None:
@@ -862,17 +882,25 @@ class Interpreter:
             cinfo[ci.name] = (ci.controller, b_in, b_out)
         used: set[tuple] = set()
         for c in mod.connections:
-            if c.bidirectional:
-                raise NotInterpretable(c.pos, "bidirectional connections")
+            if c.bidirectional and c.source in cinfo and c.target in cinfo:
+                raise NotInterpretable(c.pos, "bidirectional connections between two controllers")
             if c.source == pname and c.target in cinfo:
                 used.add((c.target, "in", c.target_event.name))
                 entries = cinfo[c.target][1].get(c.target_event.name, [])
                 # The platform is the environment: RoboTool joins its connections directly, `(_async)` or not.
                 self._boundary_env(entries, f"{self.ename}::{c.source_event.name}", True, False, c.pos)
+                if c.bidirectional:  # both directions, every machine port behind the event (`_both_ways`)
+                    used.add((c.target, "out", c.target_event.name))
+                    self._both_ways(cinfo[c.target], c.target_event.name, f"{self.ename}::{c.source_event.name}",
+                                    c.pos)
             elif c.source in cinfo and c.target == pname:
                 used.add((c.source, "out", c.source_event.name))
                 entries = cinfo[c.source][2].get(c.source_event.name, [])
                 self._boundary_env(entries, f"{self.ename}::{c.target_event.name}", False, False, c.pos)
+                if c.bidirectional:
+                    used.add((c.source, "in", c.source_event.name))
+                    self._both_ways(cinfo[c.source], c.source_event.name, f"{self.ename}::{c.target_event.name}",
+                                    c.pos)
             elif c.source in cinfo and c.target in cinfo:
                 used.add((c.source, "out", c.source_event.name))
                 used.add((c.target, "in", c.target_event.name))

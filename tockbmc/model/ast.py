@@ -784,6 +784,27 @@ class OperationDef(Behaviour):
 
 
 @dataclass(frozen=True)
+class OperationMachine(StateMachine):
+    """A defined operation checked on its own, as RoboTool's `OP_<name>` process (its generated
+    `STM(id__) = Stateful(id__) \\ {terminate}`): a machine named `OP_<name>`, so that its events
+    read `OP_<name>::e` as FDR's do; its parameters are constants (`with parameter x of op set to
+    v`); reaching its final state ends it with ✓ alone, its `terminate` hidden (docs/semantics.md §4.8)."""
+
+    operation: OperationDef | None = None
+
+
+def operation_machine(op: OperationDef) -> OperationMachine:
+    """The operation as the element an assertion checks (`OperationMachine`)."""
+    package, _, name = op.qname.rpartition("::")
+    return OperationMachine(
+        qname=f"{package}::OP_{name}" if package else f"OP_{name}", pos=op.pos,
+        variables=(*op.parameters, *op.variables), interface_variables=op.interface_variables, events=op.events,
+        clocks=op.clocks, operations=op.operations, nodes=op.nodes, transitions=op.transitions,
+        required_interfaces=op.required_interfaces, provided_interfaces=op.provided_interfaces,
+        used_interfaces=op.used_interfaces, operation=op)
+
+
+@dataclass(frozen=True)
 class Connection:
     """`connection A on e to B on f`: ends are element names local to the owner."""
 

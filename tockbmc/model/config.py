@@ -268,7 +268,9 @@ def constants_of(project: ast.Project, e: Element) -> list[ast.Variable]:
     """The constants `with constant c of E` may name: E's own, its interfaces', its parts'."""
     out: list[ast.Variable] = []
     if isinstance(e, ast.Behaviour):
-        out += [v for v in (*e.variables, *e.interface_variables) if v.constant and v.kind != "parameter"]
+        # an operation's parameters are assigned where it is called, and constants only when it is checked alone
+        out += [v for v in (*e.variables, *e.interface_variables)
+                if v.constant and (v.kind != "parameter" or isinstance(e, ast.OperationMachine))]
     elif isinstance(e, ast.Controller):
         for mi in e.machines:
             out += constants_of(project, mi.machine)
@@ -590,7 +592,9 @@ class Configuration:
                     raise ConfigError(f"{name} has a value in the model ({v.initial.pos.path}:{v.initial.pos.line}); "
                                       "--param is for constants the model leaves open", "--param")
                 self._flags[key] = _ConstEntry(None, FLAG_PARAM)
-        self._slots: dict[int, list[_Slot]] = {}
+        # by the element's id, the element kept beside its slots so that the id is never another's
+        # (an operation checked on its own is a view made per assertion: `ast.operation_machine`)
+        self._slots: dict[int, tuple[Checked, list[_Slot]]] = {}
 
     # --- ranges
 
@@ -609,9 +613,9 @@ class Configuration:
               csp_arguments: Iterable[tuple[str, ast.Expr]] = ()) -> Setup:
         """The ranges and constants an assertion on `element` is checked with.  `csp_arguments`:
         the constants `M::D__(id, c1, …)` sets, by name (`properties.queries.Query.settings`)."""
-        slots = self._slots.get(id(element))
-        if slots is None:
-            slots = self._slots[id(element)] = robotool_slots(self.project, element)
+        if id(element) not in self._slots:
+            self._slots[id(element)] = (element, robotool_slots(self.project, element))
+        slots = self._slots[id(element)][1]
         declared: dict[str, ast.Variable] = {}
         for s in slots:
             declared.setdefault(declaration_key(s.variable), s.variable)
@@ -633,7 +637,9 @@ class Configuration:
                 if v.name == name:
                     entries[key] = _ConstEntry(value, Source("D__ argument", _at(value.pos)))
         for setting in a.settings if a is not None else ():
-            if setting.kind != "constant" or _instances_named(setting, element, slots):
+            if setting.kind == "parameter" and not isinstance(element, ast.OperationMachine):
+                continue  # an operation's parameter is its caller's argument unless the operation is checked alone
+            if _instances_named(setting, element, slots):
                 continue  # one instance's value: `_per_instance`
             for key in self._with_constant(setting, declared):
                 entries[key] = _ConstEntry(setting.value, Source("with constant", _at(setting.pos)))

@@ -87,7 +87,8 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
     if a.kind == "clock-initialised":
         raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
                                 "read before `#C` first resets it) is not checked yet")
-    ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project))
+    ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project),
+                   _enumerations(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
@@ -153,9 +154,10 @@ def _side(ev: Evaluator, project: ast.Project, name: str, is_process: bool, pos:
 def _resolve(project: ast.Project, impl: Implementation) -> tuple[ast.StateMachine | ast.Controller | ast.Module,
                                                                    str, tuple[tuple[str, ast.Expr], ...]]:
     element = _element(project, impl.element)
-    if element is None or isinstance(element, ast.OperationDef):
-        raise Unsupported(None, f"'{impl.element}' is an operation; operations are checked through the machines "
-                           "that call them, which is not encoded yet")
+    if element is None:
+        raise Unsupported(None, f"'{impl.element}' names no machine, controller, module or operation")
+    if isinstance(element, ast.OperationDef):
+        element = ast.operation_machine(element)
     return element, element.name, _arguments(element, impl)
 
 
@@ -421,6 +423,19 @@ def _memory_channels(project: ast.Project) -> frozenset[str]:
         *(h.events for h in project.operations))
     events = {e.name for g in declared for e in g}
     return frozenset(f"{k}_{v.name}" for g in groups for v in g for k in ("set", "get", "setL", "setR")) - events
+
+
+def _enumerations(project: ast.Project) -> dict[str, frozenset[EnumValue]]:
+    """Enumeration types as sets of their literals, by the names a specification may write: `E`,
+    `pkg::E` or RoboTool's `pkg_E` (`|~| x : AggregationSw_Position @ …`)."""
+    literals = _literals(project)
+    out: dict[str, frozenset[EnumValue]] = {}
+    for t in project.types:
+        if isinstance(t, ast.EnumType):
+            values = frozenset(literals[f"{t.qname}::{lit}"] for lit in t.literals)
+            for key in (t.name, t.qname, t.qname.replace("::", "_")):
+                out[key] = values
+    return out
 
 
 def _literals(project: ast.Project) -> dict[str, EnumValue]:

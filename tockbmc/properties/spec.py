@@ -277,14 +277,24 @@ class ModelProcess:
         self.name, self.args, self.node = name, args, node
 
 
+def _member_order(v: object) -> tuple:
+    """A set's members in a fixed order: numbers and booleans by value, enumeration literals by
+    their place in the declaration (they have no order of their own)."""
+    if isinstance(v, EnumValue):
+        return (1, v.type_name, v.index)
+    return (0, v)
+
+
 class Evaluator:
     """Evaluates CSP expressions; `lookup_top` finds top-level definitions by name."""
 
     def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
-                 literals: dict[str, EnumValue] | None = None, memory: frozenset[str] = frozenset()):
+                 literals: dict[str, EnumValue] | None = None, memory: frozenset[str] = frozenset(),
+                 enumerations: dict[str, frozenset[EnumValue]] | None = None):
         self.lookup_top = lookup_top
         self.block = block
         self.literals = literals or {}
+        self.enumerations = enumerations or {}  # an enumeration type's name (RoboTool's `pkg_E` too): its literals
         self.memory = memory  # RoboTool's `set_x`/`get_x` channel names of the model's variables, not its events
 
     def error(self, node: Tree | Token, what: str) -> CspError:
@@ -414,6 +424,8 @@ class Evaluator:
         literal = self.literals.get(name) or self.literals.get("::".join(name.split("::")[-2:]))
         if literal is not None:
             return literal
+        if name in self.enumerations:
+            return self.enumerations[name]
         if "::" in name:
             memory = _MEMORY_CHANNEL.fullmatch(name.rsplit("::", 1)[-1])
             if memory is not None and memory.group(0) in self.memory:
@@ -485,7 +497,7 @@ class Evaluator:
                                     "that remove whole channels or listed events, only")
             members: list[object] = listed
         elif isinstance(values, frozenset):
-            members = sorted(values)  # type: ignore[type-var]
+            members = sorted(values, key=_member_order)
         else:
             raise self.error(over, "a replicated operator needs a set")
         procs = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
