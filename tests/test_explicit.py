@@ -80,6 +80,18 @@ def test_explicit_engine_needs_finite_ranges() -> None:
     assert "core_int" in result.output or "core_real" in result.output
 
 
+def test_an_unbounded_sequence_gets_a_range_hint_check_accepts() -> None:
+    """The hint names a path whose range bounds the sequence's length; it used to suggest
+    `--range Seq(int)=LO..HI`, which `check` refuses (no type 'Seq(int)')."""
+    case = str(CONFORMANCE / "robochart" / "SequenceAndProductTest")
+    result = CliRunner().invoke(cli, ["check", case, "--range", "core_int=-1..1", "--engine", "explicit", "-j", "1"])
+    assert result.exit_code == 2 and "its length: --range SequenceAndProductTest::test::a=LO..HI" in result.output, \
+        result.output
+    again = CliRunner().invoke(cli, ["check", case, "--range", "core_int=-1..1", "--range",
+                                     "SequenceAndProductTest::test::a=0..2", "--engine", "explicit", "-j", "1"])
+    assert again.exit_code != 2 and "needs finite data" not in again.output, again.output
+
+
 def test_state_limit_gives_unknown() -> None:
     result = CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A6", "--engine", "explicit", "--range",
                                       "core_int=0..2", "--range", "core_real=-1..1", "--max-states", "20",

@@ -22,7 +22,7 @@ from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.explicit.interpreter import Unbounded
 from tockbmc.interrupt import Decided, decide, interrupted
-from tockbmc.model import ModelError, Project, load
+from tockbmc.model import ModelError, Project, ast, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
 from tockbmc.model.diagnostics import suggestion
@@ -124,6 +124,20 @@ def _settings(specs: tuple[str, ...]) -> dict[str, str]:
             raise click.BadParameter(f"'{spec}': expected NAME=VALUE", param_hint="'--set'")
         result[name] = text
     return result
+
+
+def _range_hint(exc: Unbounded, config: Configuration) -> str:
+    """What to give for a value the explicit engine cannot list: the `--range` that `check` takes
+    for it (a core or model type, else a path, whose range bounds a sequence's length), never one it
+    would refuse (it used to suggest `--range Seq(int)=LO..HI`)."""
+    for name in (exc.name, *exc.paths):
+        try:
+            t = config.names.range_type(name)[1]
+        except ConfigError:
+            continue
+        what = "its length" if isinstance(t, ast.SeqType) else "its values"
+        return f"give a range for {exc.path or name} ({what}: --range {name}=LO..HI)"
+    return f"no range can be given for {exc.path or exc.name} (of type {exc.name})"
 
 
 def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[str, ...],
@@ -303,8 +317,7 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
         try:
             decided = decide(runner, on_item=show, stop=runner.stop)
         except Unbounded as exc:
-            raise click.UsageError(f"--engine explicit needs finite data: give a range for {exc.name} "
-                                   f"(--range {exc.name}=LO..HI)") from None
+            raise click.UsageError(f"--engine explicit needs finite data: {_range_hint(exc, job.config)}") from None
         except Unreachable as exc:
             raise click.BadParameter(str(exc), param_hint="'--dask'") from None
     got = dict(decided.results)
@@ -397,8 +410,7 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
     except LookupError as exc:
         raise click.BadParameter(str(exc), param_hint="'--element'") from None
     except Unbounded as exc:
-        raise click.UsageError(f"simulate needs finite data: give a range for {exc.name} "
-                               f"(--range {exc.name}=LO..HI)") from None
+        raise click.UsageError(f"simulate needs finite data: {_range_hint(exc, config)}") from None
     except NotInterpretable as exc:
         click.echo(f"{exc.pos}: unsupported: {exc.what}", err=True)
         sys.exit(EXIT_MODEL_ERROR)

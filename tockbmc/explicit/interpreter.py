@@ -127,15 +127,16 @@ class Unbounded(Exception):
     given as a range too.
     """
 
-    def __init__(self, name: str, path: str | None = None) -> None:
+    def __init__(self, name: str, path: str | None = None, paths: tuple[str, ...] = ()) -> None:
         where = f" (for {path})" if path else ""
         super().__init__(f"no finite range for {name}{where}: give a range for {name!r}")
         self.name = name
         self.path = path
+        self.paths = paths or ((path,) if path else ())  # every spelling of the path, for a hint `--range` takes
 
-    def __reduce__(self) -> tuple[type[Unbounded], tuple[str, str | None]]:
-        """Rebuilt from its name and path (a worker process of `check -j` raises it in the parent)."""
-        return Unbounded, (self.name, self.path)
+    def __reduce__(self) -> tuple[type[Unbounded], tuple[str, str | None, tuple[str, ...]]]:
+        """Rebuilt from its name and paths (a worker process of `check -j` raises it in the parent)."""
+        return Unbounded, (self.name, self.path, self.paths)
 
 
 class NotInterpretable(Exception):
@@ -1183,7 +1184,7 @@ class Interpreter:
             return [frozenset(c) for n in range(len(elements) + 1) for c in itertools.combinations(elements, n)]
         r = next((self.ranges[p] for p in paths if p in self.ranges), None)
         if r is None:
-            raise Unbounded(str(t), paths[0] if paths else None)
+            raise Unbounded(str(t), paths[0] if paths else None, paths)
         lo, hi = max(0, math.ceil(r[0])), math.floor(r[1])
         if sum(len(elements) ** n for n in range(lo, hi + 1)) > MAX_COLLECTIONS:
             raise NotInterpretable(None, f"every value of {t} of length {lo}..{hi}: more than {MAX_COLLECTIONS}")
@@ -1198,7 +1199,7 @@ class Interpreter:
         if r is None:
             r = tr
         if r is None:
-            raise Unbounded(name, paths[0] if paths else None)
+            raise Unbounded(name, paths[0] if paths else None, paths)
         lo, hi = math.ceil(r[0]), math.floor(r[1])
         if t == ast.NAT:
             lo = max(lo, 0)
