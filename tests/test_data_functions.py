@@ -294,3 +294,39 @@ stm Other {
         assert "lt's conditions do not type-check" in (results["U"].reason or "")
         assert "m.rct:3" in (results["U"].reason or "")
         assert results["O"].verdict == Verdict.HOLDS, results["O"].reason
+
+
+
+SUFFIXES = """\
+import sequence_toolkit::*
+import set_toolkit::*
+stm M {
+  var s : Seq(nat) = <1, 2, 3>
+  var a : Set(nat) = {1, 2}
+  event e : nat
+  var x : nat = 0
+  initial i
+  state S0 { }
+  state Good { }
+  state Bad { }
+  state Odd { }
+  state Empty { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to Good trigger e?x condition suffix(<2, 3>, s) /\\ infix(<x, 3>, s) }
+  transition t2 { from S0 to Bad condition suffix(<1, 2>, s) \\/ infix(<1, 3>, s) \\/ infix(<3, 2>, s) }
+  transition t3 { from S0 to Odd trigger e?x condition symetric_diff(a, {x}) == {1, 2, 3} /\\ suffix(<x>, s) }
+  transition t4 { from S0 to Empty trigger e?x condition symetric_diff(a, {x}) == {} }
+}
+"""
+
+
+def test_suffix_infix_and_symmetric_difference(tmp_path: Path) -> None:
+    # sequence_toolkit: suffix(s, t) iff some u has u ^ s == t; infix(s, t) iff some u, v have
+    # u ^ s ^ v == t; set_toolkit's symetric_diff(a, b) holds the members of exactly one.
+    # Good: <2, 3> ends <1, 2, 3>, and <x, 3> is a stretch of it for x = 2.  Bad: <1, 2> does not
+    # end s, and neither <1, 3> nor <3, 2> is a stretch of it.  Odd: {1, 2} and {x} differ in
+    # {1, 2, 3} for x = 3, and <3> ends s.  Empty: {1, 2} and a singleton always differ.
+    project = _project(tmp_path, SUFFIXES, "".join(f"assertion R{n}: {s} is reachable in M.\n"
+                                                   for n, s in enumerate(("Good", "Bad", "Odd", "Empty"), 1)))
+    assert _both(project, ["R1", "R2", "R3", "R4"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED,
+                                                        "R3": Verdict.HOLDS, "R4": Verdict.VIOLATED}

@@ -562,6 +562,10 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         return z3.Concat(a, xs[1])
     if op == "prefix":
         return z3.PrefixOf(a, xs[1])
+    if op == "suffix":
+        return z3.SuffixOf(a, xs[1])
+    if op == "infix":  # set_toolkit's `exists u, v @ u ^ s ^ v == t`: a stretch of t
+        return z3.Contains(xs[1], a)
     element = sort_of(st.element) if isinstance(st, (ast.SeqType, ast.SetType)) else None
     if op == "reverse":
         acc, x = z3.Const("rev!acc", a.sort()), z3.Const("rev!x", element)
@@ -583,6 +587,8 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         return z3.SetIntersect(a, b)
     if op == "diff":
         return z3.SetDifference(a, b)
+    if op == "symetric_diff":  # set_toolkit's spelling: the members of exactly one
+        return z3.SetDifference(z3.SetUnion(a, b), z3.SetIntersect(a, b))
     if op == "subseteq":
         return z3.IsSubset(a, b)
     if op == "subset":

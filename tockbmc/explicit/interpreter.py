@@ -1575,6 +1575,9 @@ class Interpreter:
         b = args[1]
         pair: dict[str, Callable[[], object]] = {
             "concat": lambda: _coerce(e.type, a + b), "prefix": lambda: b[:len(a)] == a,
+            "suffix": lambda: len(a) <= len(b) and b[len(b) - len(a):] == a,
+            "infix": lambda: any(b[i:i + len(a)] == a for i in range(len(b) - len(a) + 1)),
+            "symetric_diff": lambda: _coerce(e.type, a ^ b),
             "filter": lambda: tuple(x for x in a if x in b),
             "extract": lambda: tuple(x for i, x in enumerate(b, 1) if i in a),
             "union": lambda: _coerce(e.type, a | b), "inter": lambda: a & b, "diff": lambda: a - b,

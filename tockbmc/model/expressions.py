@@ -31,10 +31,15 @@ UNSUPPORTED_EXPRESSIONS = {
 # relation_toolkit that read sequences), by name: how many arguments, and the kinds they take.
 TOOLKIT_FUNCTIONS = {
     "size": 1, "head": 1, "last": 1, "tail": 1, "front": 1, "reverse": 1, "isNonEmpty": 1, "concat": 2,
-    "filter": 2, "prefix": 2, "dom": 1, "ran": 1, "elems": 1,
-    "union": 2, "inter": 2, "diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
+    "filter": 2, "prefix": 2, "suffix": 2, "infix": 2, "dom": 1, "ran": 1, "elems": 1,
+    "union": 2, "inter": 2, "diff": 2, "symetric_diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
     "min": 1, "max": 1, "extract": 2, "override": 2,
 }
+
+# Built-ins of two sequences or two sets of one type: those giving one (their items' type the
+# join of both), and those comparing them.
+_JOINED = ("concat", "union", "inter", "diff", "symetric_diff")
+_COMPARED = ("subseteq", "subset", "prefix", "suffix", "infix")
 
 _ARITHMETIC = {"+", "-", "*", "/", "%"}
 _ORDER = {"<", "<=", ">", ">="}
@@ -595,10 +600,9 @@ class ExprChecker:
         if t is None:
             self.error(node, f"type error: '{op}' cannot take {', '.join(str(a.type) for a in args)}")
             return ast.Builtin(ERROR, p, op, tuple(args))
-        if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "filter", "prefix") and \
-                isinstance(args[0].type, (ast.SeqType, ast.SetType)):
-            args = [conform(a, t if op in ("concat", "union", "inter", "diff") else a.type) for a in args]
-            if op in ("concat", "union", "inter", "diff", "subseteq", "subset", "prefix"):
+        if op in (*_JOINED, *_COMPARED, "filter") and isinstance(args[0].type, (ast.SeqType, ast.SetType)):
+            args = [conform(a, t if op in _JOINED else a.type) for a in args]
+            if op in (*_JOINED, *_COMPARED):
                 args = [conform(a, args[0].type) for a in args]
         if op == "override":
             pairs = ast.SetType(ast.ProductType((t.domain, t.range))) if isinstance(t, ast.FunctionType) else t
@@ -1025,9 +1029,9 @@ def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
         assert isinstance(a, ast.SeqType)
         return {"size": NAT, "isNonEmpty": BOOLEAN, "head": a.element, "last": a.element, "dom": ast.SetType(NAT),
                 "ran": ast.SetType(a.element), "elems": ast.SetType(a.element)}.get(op, a)
-    if op in ("concat", "prefix"):
+    if op in ("concat", "prefix", "suffix", "infix"):  # sequence_toolkit: `s` starts, ends, or is a stretch of `t`
         if seq and isinstance(b, ast.SeqType) and (ast.assignable(a, b) or ast.assignable(b, a)):
-            if op == "prefix":
+            if op != "concat":
                 return BOOLEAN
             return b if isinstance(a.element, ast.AnyElement) else a  # type: ignore[attr-defined]
         return None
@@ -1035,7 +1039,7 @@ def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
         if seq and isinstance(b, ast.SetType) and ast.comparable(a.element, b.element):  # type: ignore[attr-defined]
             return a
         return None
-    if op in ("union", "inter", "diff", "subseteq", "subset"):
+    if op in ("union", "inter", "diff", "symetric_diff", "subseteq", "subset"):
         if isinstance(a, ast.SetType) and isinstance(b, ast.SetType) and (ast.assignable(a, b) or ast.assignable(b, a)):
             if op in ("subseteq", "subset"):
                 return BOOLEAN
