@@ -108,6 +108,41 @@ def test_size_of_a_set_is_unsupported_in_bmc_with_its_position(tmp_path: Path) -
     assert "the size of a set" in (r.reason or "") and r.reason and "m.rct:7:" in r.reason
 
 
+def test_size_of_a_set_of_an_enumeration_or_of_booleans_in_both_engines(tmp_path: Path) -> None:
+    """An enumeration's set is counted literal by literal.  `c?k` adds a colour: after Red and
+    Red again the set has one member, after Red then Blue two; three needs three inputs (Full).
+    Two booleans make a set of size 2 (Both), never 3 (Three)."""
+    (tmp_path / "m.rct").write_text("""import set_toolkit::*
+enumeration Colour { Red Green Blue }
+stm M {
+  var a : Set(Colour) = {}
+  var b : Set(boolean) = {}
+  var k : Colour
+  event c : Colour
+  initial i
+  state S {}
+  state Full {}
+  state Both {}
+  state Three {}
+  transition t0 { from i to S }
+  transition t1 { from S to S trigger c?k action a = union(a, {k}) ; b = union(b, {size(a) > 1}) }
+  transition t2 { from S to Full condition size(a) == 3 }
+  transition t3 { from S to Both condition size(b) == 2 }
+  transition t4 { from S to Three condition size(b) == 3 }
+}
+""")
+    (tmp_path / "m.assertions").write_text("assertion F: Full is reachable in M.\nassertion B: Both is reachable in M.\n"
+                                           "assertion T: Three is reachable in M.\n")
+    project = load(tmp_path)
+    bmc = {r.assertion: r for r in check(project, bound=16)}
+    explicit = {r.assertion: r for r in check_explicit(project, None, 16, Ranges({}), {}, 60)}
+    for rs in (bmc, explicit):
+        assert {n: r.verdict for n, r in rs.items()} == {"F": Verdict.HOLDS, "B": Verdict.HOLDS,
+                                                         "T": Verdict.VIOLATED}, rs
+    visible = [s.event for s in bmc["F"].trace if s.kind != "internal"]
+    assert len(visible) == 3 and len(set(visible)) == 3, visible  # three different colours, fewest inputs
+
+
 def test_input_sequences_need_a_length_range_for_the_explicit_engine(tmp_path: Path) -> None:
     (tmp_path / "m.rct").write_text("stm M {\n  var s : Seq(nat)\n  event e : Seq(nat)\n  initial i\n  state a {}\n"
                                     "  state b {}\n  transition t0 { from i to a }\n"

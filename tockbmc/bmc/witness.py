@@ -96,7 +96,12 @@ def term_value(v: z3.ExprRef, t: ast.Type) -> object:
 
 
 def _members(v: z3.ExprRef, t: ast.SetType) -> list[object]:
-    """The members of a finite set value (a constant array with stores, or a lambda over equalities)."""
+    """The members of a finite set value (a constant array with stores, or a lambda over equalities).
+    A set of an enumeration or of booleans is read value by value: Z3 may give it as a complement
+    (`Store(K(Bool, True), True, False)` for `{false}`), and its members are its type's values in it."""
+    finite = _finite_values(t.element)
+    if finite is not None:
+        return [term_value(x, t.element) for x in finite if z3.is_true(z3.simplify(z3.Select(v, x)))]
     out: list[object] = []
     x = v
     while z3.is_app_of(x, z3.Z3_OP_STORE):
@@ -119,6 +124,15 @@ def _members(v: z3.ExprRef, t: ast.SetType) -> list[object]:
                 raise Unsupported(ast.Pos("<model>", 1, 1), f"a set value Z3 gave as {v}")
         return out
     raise Unsupported(ast.Pos("<model>", 1, 1), f"a set value Z3 gave as {v} (not a finite set)")
+
+
+def _finite_values(t: ast.Type) -> list[z3.ExprRef] | None:
+    """Every value of a type with finitely many, as terms (an enumeration's literals are 0, 1, …)."""
+    if isinstance(t, ast.EnumType):
+        return [z3.IntVal(i) for i in range(len(t.literals))]
+    if t == ast.BOOLEAN:
+        return [z3.BoolVal(False), z3.BoolVal(True)]
+    return None
 
 
 def _fraction(v: z3.RatNumRef | z3.IntNumRef) -> Fraction:

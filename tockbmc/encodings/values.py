@@ -547,7 +547,7 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
     if op == "size":
         if isinstance(st, ast.SetType):
-            raise Unsupported(e.pos, "the size of a set (Z3's sets have no cardinality)")
+            return _set_size(e, st, a)
         return z3.Length(a)
     if op == "isNonEmpty":
         return z3.Length(a) > 0
@@ -594,6 +594,22 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     if op == "subset":
         return z3.And(z3.IsSubset(a, b), a != b)
     raise Unsupported(e.pos, f"the operation '{op}' is not encoded yet")
+
+
+def _set_size(e: ast.Builtin, st: ast.SetType, a: z3.ExprRef) -> z3.ArithRef:
+    """The size of a set whose element type has finitely many values, known here: an
+    enumeration's literals or the two booleans, each counted when it is a member.  Z3's sets have
+    no cardinality, so a set of numbers (or of a given type, whose values a function may make
+    anywhere) is `unsupported`."""
+    t = st.element
+    if isinstance(t, ast.EnumType):
+        values: list[z3.ExprRef] = [z3.IntVal(i) for i in range(len(t.literals))]
+    elif t == ast.BOOLEAN:
+        values = [z3.BoolVal(False), z3.BoolVal(True)]
+    else:
+        raise Unsupported(e.pos, f"the size of a set of {t} (Z3's sets have no cardinality; sets of "
+                                 "enumerations and booleans are counted)")
+    return z3.Sum([z3.If(z3.IsMember(v, a), 1, 0) for v in values]) if values else z3.IntVal(0)
 
 
 def _extremum(e: ast.Builtin, a: z3.ExprRef) -> tuple[z3.ExprRef, z3.BoolRef]:
