@@ -100,6 +100,34 @@ def test_state_limit_gives_unknown() -> None:
     assert r["verdict"] == "unknown" and "state limit" in r["reason"] and r["states"] <= 20
 
 
+GROWING = """\
+import sequence_toolkit::*
+stm M {
+  var s : Seq(int) = <>
+  event d
+  initial i
+  state S {}
+  state T {}
+  transition t0 { from i to S }
+  transition t1 { from S to S action s = s ^ <1> }
+  transition t2 { from S to T trigger d condition size(s) < 0 }
+}
+"""
+
+
+def test_a_specification_on_the_left_keeps_to_the_timeout(tmp_path) -> None:
+    """Few's trace <d> is one M never performs, and M's internal steps grow `s` for ever: the
+    search for a run performing it (explicit engine, `_runs_to`) had no deadline, and with a 3 s
+    timeout gave no answer in a minute (each new configuration copies a longer sequence).  It now
+    stops at the deadline: unknown, timed out."""
+    (tmp_path / "m.rct").write_text(GROWING)
+    (tmp_path / "m.assertions").write_text("csp Few csp-begin\nFew = M::d.in -> STOP\ncsp-end\n"
+                                           "untimed assertion F: Few refines M in the failures model.\n")
+    [r] = check_explicit(load(tmp_path), None, 40, Ranges(), {}, timeout=2)
+    assert r.verdict == "unknown" and "timed out" in (r.reason or ""), r
+    assert r.seconds < 20, r.seconds  # a tenfold margin for a loaded machine; it was over a minute
+
+
 def test_simulate_prints_a_reproducible_random_run() -> None:
     args = ["simulate", str(EXAMPLE), "--element", "EXAX", "--steps", "12", "--seed", "3",
             "--range", "core_int=-1..1", "--range", "core_real=-1..1"]

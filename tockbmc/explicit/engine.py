@@ -171,6 +171,11 @@ class Search:
             self.split[config] = parts
         return parts
 
+    def check_time(self) -> None:
+        """Raise `TimeoutError` once the check's deadline has passed (every search loop asks)."""
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise TimeoutError
+
     def steps(self, key: Hashable) -> list[Edge]:
         if key in self.succ:
             return self.succ[key]
@@ -267,8 +272,7 @@ class Search:
                 first = self.monitor.after(first, e)
         todo: deque[Hashable] = deque()
         for start in ((part, first) for c in self.interp.initial_configs() for part in self.parts(c)):
-            if self.deadline is not None and time.monotonic() > self.deadline:
-                raise TimeoutError
+            self.check_time()
             if start not in self.depth:
                 if len(self.depth) >= self.max_states:
                     raise MemoryError
@@ -276,8 +280,7 @@ class Search:
                 self.parent[start] = None
                 todo.append(start)
         while todo:
-            if self.deadline is not None and time.monotonic() > self.deadline:
-                raise TimeoutError
+            self.check_time()
             key = todo.popleft()
             d = self.depth[key]
             if d > self.reached:  # 0-1 search: depths come in order, so every run of fewer visible steps is explored
@@ -704,6 +707,7 @@ def _runs_to(search: Search, events: tuple[tuple, ...], end: Callable[[Config, l
     seen = set(start)
     todo = deque(start)
     while todo:
+        search.check_time()  # internal steps growing a sequence for ever took minutes a state
         node_key, i = todo.popleft()
         config = cast("tuple[Config, None]", node_key)[0]
         steps = search.steps((config, None))
@@ -1114,6 +1118,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
         seen = set(nodes)
         todo = list(seen)
         while todo:
+            search.check_time()
             for step, nxt, _raw in search.steps(todo.pop()):
                 if step.kind == "internal" and nxt not in seen:
                     if len(seen) >= search.max_states:
@@ -1130,8 +1135,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
         todo: deque[tuple[frozenset[Hashable], tuple[str, ...]]] = deque([(first, ())])
         visited = {first}
         while todo:
-            if search.deadline is not None and time.monotonic() > search.deadline:
-                raise TimeoutError
+            search.check_time()
             nodes, trace = todo.popleft()
             offers = {n: {_label(e.step) for e in search.steps(n) if e.step.kind != "internal"} for n in nodes}
             everything = set().union(*offers.values())
