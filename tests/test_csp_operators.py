@@ -1042,14 +1042,14 @@ stm M {
 
 
 def test_replicated_choice_over_an_enumeration_named_as_robotool_names_it(tmp_path) -> None:
-    """`pk_Colour` (RoboTool's name for type Colour of package pk), `Colour` and `pk::Colour` are the
-    set of its literals: M accepts any colour, so it refines a specification offering every one
+    """`pk_Colour` (RoboTool's name for type Colour of package pk) and `Colour` are the set of its
+    literals (`pk::Colour` is left to channels, as `Arm::Mode` for event Mode of machine Arm): M accepts any colour, so it refines a specification offering every one
     (A1) and not one offering every one but Blue (A2, whose counterexample is `M::c.in.Colour::Blue`)."""
     assertions = """
 untimed csp Specs csp-begin
 All = [] x : pk_Colour @ pk::M::c.in.x -> All
 AllToo = [] x : Colour @ pk::M::c.in.x -> AllToo
-NoBlue = [] x : diff(pk::Colour, {Colour_Blue}) @ pk::M::c.in.x -> NoBlue
+NoBlue = [] x : diff(Colour, {Colour_Blue}) @ pk::M::c.in.x -> NoBlue
 csp-end
 untimed assertion A1: pk::M refines All in the traces model.
 untimed assertion A3: pk::M refines AllToo in the traces model.
@@ -1059,3 +1059,31 @@ untimed assertion A2: pk::M refines NoBlue in the traces model.
     assert r["A1"].verdict == "holds" and r["A3"].verdict == "holds", (r["A1"].reason, r["A3"].reason)
     assert r["A2"].verdict == "violated" and [s.event for s in r["A2"].trace if s.kind != "internal"] == [
         "M::c.in.Colour::Blue"], r["A2"]
+
+
+def test_a_channel_named_like_a_package_enumeration_stays_a_channel(tmp_path) -> None:
+    """Review finding: with `enumeration Mode` in package Arm and `event Mode` of machine Arm,
+    `Arm::Mode.in?x` is the event's channel; reading `Arm::Mode` as the type's set of literals
+    left both assertions unsupported.  S1 accepts any mode (holds); S3 only On (violated by Off)."""
+    rct = """
+package Arm
+enumeration Mode { On Off }
+stm Arm {
+  event Mode : Mode
+  var p : Mode
+  initial i
+  state s {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger Mode?p }
+}
+"""
+    assertions = """import Arm::*
+csp S csp-begin
+S1 = Arm::Mode.in?x -> S1
+S3 = Arm::Mode.in.Mode_On -> S3
+csp-end
+untimed assertion E1: Arm refines S1 .
+untimed assertion E3: Arm refines S3 .
+"""
+    r = run(tmp_path, rct, assertions)
+    assert r["E1"].verdict == "holds" and r["E3"].verdict == "violated", (r["E1"].reason, r["E3"].reason)

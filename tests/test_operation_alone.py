@@ -70,3 +70,17 @@ def test_a_parameter_is_a_constant_stated_with_where_its_value_came_from() -> No
     e2 = [s.event for s in r["E2"].trace if s.kind != "internal"]
     a, b = int(e2[0].rsplit(".", 1)[1]), int(e2[1].rsplit(".", 1)[1])
     assert e2[0].startswith("OP_addk::a.in.") and b == a + 2, e2
+
+
+def test_a_state_qualified_by_the_operations_name(tmp_path: Path) -> None:
+    """Review finding: `addk::s is reachable in addk` was violated in both engines (the view is
+    named `OP_addk`, and only that name qualified its states); RoboTool's users name the operation."""
+    (tmp_path / "ops.rct").write_text((MODEL / "ops.rct").read_text())
+    (tmp_path / "r.assertions").write_text("import ops::*\nassertion R1: addk::s is reachable in addk .\n"
+                                           "assertion R2: ops::addk::s is reachable in addk .\n"
+                                           "assertion R3: addk::f is reachable in addk .\n")
+    project = tockbmc.load(tmp_path)
+    config = configure(project, RANGES)
+    for rs in (check(project, bound=12, config=config), check_explicit(project, None, 12, RANGES, {}, 30,
+                                                                         config=config)):
+        assert {r.assertion: r.verdict.value for r in rs} == {"R1": "holds", "R2": "holds", "R3": "holds"}, rs

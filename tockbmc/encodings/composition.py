@@ -198,9 +198,15 @@ class _Flattener:
         """Join the machine ports behind an event to the visible event `outer::event`."""
         external = External(f"{outer}::{event.name}", event)
         for port, inner_async in ports:
-            if (port.component, port.event.name) in self.both_ways and any(
-                    link.port_of(port.component, port.event.name) for link in self.links):
-                continue  # joined already, the other way round: a synchronous link carries both directions
+            if (port.component, port.event.name) in self.both_ways:
+                joined = [x for x in self.links if x.port_of(port.component, port.event.name)]
+                outside = [end.name for x in joined for end in (x.sender, x.receiver) if isinstance(end, External)]
+                if joined and len(outside) == len(joined):  # joined to the outside only (else: one-to-many, below)
+                    if set(outside) == {external.name}:
+                        continue  # joined already, the other way round: a synchronous link carries both directions
+                    raise Unsupported(pos, f"the two directions of bidirectional event '{port.event.name}' of "
+                                           f"{self.components[port.component].name} reach different events "
+                                           f"({', '.join(sorted({*outside, external.name}))}); this is not encoded yet")
             if asynchronous and inner_async:
                 raise Unsupported(pos, "two asynchronous connections in series are not encoded yet")
             if incoming:
@@ -248,13 +254,13 @@ def of_module(m: ast.Module) -> Network:
         prefix = f"{ci.name}::" if len(m.controllers) > 1 else ""
         ins, outs = f.controller(ci.controller, prefix, (ci.name,))
         ends[ci.name] = (ci.controller, ins, outs)
-    used: set[tuple[str, str]] = set()
+    used: set[tuple[str, str, bool]] = set()  # (controller, event, incoming): a direction the module joins
     for conn in m.connections:
         src, dst = ends.get(conn.source), ends.get(conn.target)
         if conn.bidirectional:
             _boundary_only(conn, src is not None and dst is not None, "two controllers")
         if src is not None and dst is not None:
-            used |= {(conn.source, conn.source_event.name), (conn.target, conn.target_event.name)}
+            used |= {(conn.source, conn.source_event.name, False), (conn.target, conn.target_event.name, True)}
             for p, a in src[2].get(conn.source_event.name, []):
                 for q, b in dst[1].get(conn.target_event.name, []):
                     if [a, b, conn.asynchronous].count(True) > 1:
@@ -263,18 +269,19 @@ def of_module(m: ast.Module) -> Network:
         # The platform is the environment: RoboTool joins its connections directly (a visible event of
         # the module), `(_async)` or not; only connections between controllers get a buffer.
         elif dst is not None:  # platform → controller
-            used.add((conn.target, conn.target_event.name))
+            used |= {(conn.target, conn.target_event.name, d) for d in (True, *((False,) if conn.bidirectional else ()))}
             f.expose(m.name, conn.source_event, _ends(dst, conn.target_event.name, True, conn.bidirectional, f),
                      True, False, conn.pos)
         elif src is not None:  # controller → platform
-            used.add((conn.source, conn.source_event.name))
+            used |= {(conn.source, conn.source_event.name, d) for d in (False, *((True,) if conn.bidirectional else ()))}
             f.expose(m.name, conn.target_event, _ends(src, conn.source_event.name, False, conn.bidirectional, f),
                      False, False, conn.pos)
-    # Controller events the module leaves unconnected stay visible under the controller's name.
+    # Controller events the module leaves unconnected, in either direction, stay visible under the
+    # controller's name (as the interpreter's `_flatten_module` keeps them).
     for name, (c, ins, outs) in ends.items():
         for table, incoming in ((ins, True), (outs, False)):
             for ev_name, ports in table.items():
-                if (name, ev_name) not in used:
+                if (name, ev_name, incoming) not in used:
                     event = c.event(ev_name)
                     assert event is not None
                     f.expose(c.name, event, ports, incoming, False, c.pos)

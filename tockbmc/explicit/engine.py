@@ -942,7 +942,7 @@ def is_state(machine: str, active: str, state: str) -> bool:
             return True
         if state.endswith("::" + path):
             qualifier = state[: -len(path) - 2].rsplit("::", 1)[-1]
-            if qualifier == machine.rsplit("::", 1)[-1]:
+            if ast.qualifies(qualifier, machine.rsplit("::", 1)[-1]):
                 return True
     return False
 

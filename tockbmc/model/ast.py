@@ -793,6 +793,12 @@ class OperationMachine(StateMachine):
     operation: OperationDef | None = None
 
 
+def qualifies(qualifier: str, machine: str) -> bool:
+    """Whether `qualifier` (the last part of the name before a state's, as in `stm0::s`) names
+    machine `machine`: its own name, or for an operation checked on its own (`OP_op`) the operation's."""
+    return qualifier == machine or f"OP_{qualifier}" == machine
+
+
 def operation_machine(op: OperationDef) -> OperationMachine:
     """The operation as the element an assertion checks (`OperationMachine`)."""
     package, _, name = op.qname.rpartition("::")

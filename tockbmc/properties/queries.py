@@ -56,7 +56,7 @@ def _names(path: str, state: str, *component: str) -> bool:
     if not state.endswith("::" + path):
         return False
     qualifier = state[: -len(path) - 2].rsplit("::", 1)[-1]
-    return any(qualifier == name.rsplit("::", 1)[-1] for name in component)
+    return any(ast.qualifies(qualifier, name.rsplit("::", 1)[-1]) for name in component)
 
 
 def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
@@ -426,14 +426,15 @@ def _memory_channels(project: ast.Project) -> frozenset[str]:
 
 
 def _enumerations(project: ast.Project) -> dict[str, frozenset[EnumValue]]:
-    """Enumeration types as sets of their literals, by the names a specification may write: `E`,
-    `pkg::E` or RoboTool's `pkg_E` (`|~| x : AggregationSw_Position @ …`)."""
+    """Enumeration types as sets of their literals, by the names a specification may write: `E` or
+    RoboTool's `pkg_E` (`|~| x : AggregationSw_Position @ …`).  Not `pkg::E`: a name with `::` is a
+    channel's (`Arm::Mode.in` for event Mode of machine Arm, beside a type Mode of package Arm)."""
     literals = _literals(project)
     out: dict[str, frozenset[EnumValue]] = {}
     for t in project.types:
         if isinstance(t, ast.EnumType):
             values = frozenset(literals[f"{t.qname}::{lit}"] for lit in t.literals)
-            for key in (t.name, t.qname, t.qname.replace("::", "_")):
+            for key in (t.name, t.qname.replace("::", "_")):
                 out[key] = values
     return out
 
