@@ -170,3 +170,15 @@ def test_a_quantified_formula_is_read_in_a_run_even_where_the_model_cannot_evalu
     assert not z3.is_true(outcome.model.eval(outcome.unroller.at(at_most_3, 9), model_completion=True))
     assert true_at(outcome.unroller, outcome.model, at_most_3, 9)
     assert not true_at(outcome.unroller, outcome.model, above_3, 9)
+
+
+def test_a_z3_failure_is_an_unknown_with_z3s_message(project: Project, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Z3 raised 'Overflow encountered when expanding vector' in k-induction on one public project
+    (not reproduced since): the check is `unknown` with Z3's message, not an internal error that ends
+    the run."""
+    def failing(*args: object, **kwargs: object) -> object:
+        raise z3.Z3Exception(b"Overflow encountered when expanding vector")
+
+    monkeypatch.setattr("tockbmc.check.decide", failing)
+    [r] = check(project, ["stops"], bound=5)
+    assert r.verdict == Verdict.UNKNOWN and r.reason == "Z3 failed: Overflow encountered when expanding vector", r

@@ -139,6 +139,10 @@ class _Check:
             return self.unsupported(exc)
         except RecursionError:
             return self.unsupported(Unsupported(None, TOO_DEEP_TO_CHECK))  # the result carries the assertion's line
+        except z3.Z3Exception as exc:  # Z3 itself failed on a query (seen once: 'Overflow encountered when
+            # expanding vector' in k-induction on a RoboArch property file): no verdict, and the others still run
+            why = exc.value.decode(errors="replace") if isinstance(exc.value, bytes) else str(exc.value)
+            return self.result(Verdict.UNKNOWN, f"Z3 failed: {why}", proof=Proof.NONE, depth=None)
         if self.abstracted and not self.searched and q.inclusion is None:
             self.proof = Proof.ABSTRACTION
         return self.result(Verdict.HOLDS, "; ".join(self.reasons), proof=self.proof,
