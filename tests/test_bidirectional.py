@@ -99,11 +99,12 @@ controller C {
         assert r.verdict == "unsupported" and "one-to-many" in (r.reason or ""), r
 
 
-def test_the_two_directions_joined_to_different_events_are_unsupported_in_bmc(tmp_path: Path) -> None:
-    """Review finding: `[ mult ]` inside the controller, one-way at the module.  The module joins
-    only the input, so the output stays `C::e.out` (the explicit engine, direction by direction);
-    BMC's one link carried both as `Mod::e` and its replay failed (exit 1).  BMC now says the two
-    directions reach different events, `unsupported`; the explicit engine decides."""
+def test_a_platform_connection_joins_the_controllers_whole_channel(tmp_path: Path) -> None:
+    """`[ mult ]` inside the controller, one-way at the module.  RoboTool renames the controller's
+    whole channel at the module (`ctrl_ref1::receive <- receive`, `[ mult ]` or not), so both
+    directions are `Mod::e`: M1 holds and M2 (an output on `C::e`) is violated, in both engines.
+    (A review had found BMC carrying both directions as `Mod::e` while the explicit engine kept the
+    output as `C::e.out`: a ReplayFailure, exit 1.)"""
     write_files(tmp_path, {"m.rct": ECHO_AND_CONTROLLER + """
 controller C { uses IE sref m = Echo connection m on e to C on e [ mult ] }
 module Mod { robotic platform P { uses IE } cref c = C connection P on e to c on e }
@@ -116,7 +117,58 @@ untimed assertion M1: Mod refines EchoesMod .
 untimed assertion M2: Mod refines EchoesMixed .
 """})
     project = tockbmc.load(tmp_path)
-    for r in check(project, bound=8, ranges=RANGES):
-        assert r.verdict == "unsupported" and "reach different events" in (r.reason or ""), r
-    explicit = {r.assertion: r.verdict for r in check_explicit(project, None, 8, RANGES, {}, 10)}
-    assert explicit == {"M1": "violated", "M2": "holds"}, explicit
+    for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
+        assert {r.assertion: r.verdict for r in rs} == {"M1": "holds", "M2": "violated"}, rs
+
+
+def test_a_machine_receiving_on_an_event_drawn_outwards_receives_the_controllers(tmp_path: Path) -> None:
+    """RoboTool renames the machine's whole channel (`stm_ref0::broadcast <- broadcast` for
+    AlphaAlgorithm's `connection stm_ref0 on broadcast to CommunicationC on broadcast`, whose
+    machine also receives on it), so Echo's input on `e` is `C::e.in` though the connection is drawn
+    from Echo to C.  The engines read it differently before (a review's `bidi3pre`)."""
+    write_files(tmp_path, {"m.rct": ECHO_AND_CONTROLLER + """
+controller C { uses IE sref m = Echo connection m on e to C on e }
+""", "m.assertions": """import b::*
+csp S csp-begin
+Echoes = b::C::e.in?v -> b::C::e.out!(v + 1) -> Echoes
+csp-end
+untimed assertion C1: C refines Echoes .
+untimed assertion C2: C is deterministic .
+"""})
+    project = tockbmc.load(tmp_path)
+    for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
+        assert {r.assertion: r.verdict for r in rs} == {"C1": "holds", "C2": "holds"}, rs
+
+
+def test_an_operation_sending_on_a_bidirectional_event_drawn_inwards_loads(tmp_path: Path) -> None:
+    """Differential finding: the loader's rule that a controller's operation uses the controller's
+    events the way its connections go ignored `[ mult ]`, refusing an operation that sends on
+    `connection M on b to Q on b [ mult ]`; drawn the other way round, the same model loaded."""
+    write_files(tmp_path, {"m.rct": """
+interface Ops { op(n : int) }
+stm Q {
+  requires Ops
+  event b : int
+  var x : int
+  initial i
+  state S0 { entry op(1) }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S0 trigger b?x action b!x }
+}
+controller M {
+  event b : int
+  operation op(n : int) {
+    event b : int
+    initial i
+    state s { entry b!n }
+    final f
+    transition t0 { from i to s }
+    transition t1 { from s to f }
+  }
+  sref Q = Q
+  connection M on b to Q on b [ mult ]
+}
+""", "m.assertions": "assertion A0: M is deadlock-free.\n"})
+    project = tockbmc.load(tmp_path)
+    for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
+        assert [r.verdict for r in rs] == ["holds"], rs

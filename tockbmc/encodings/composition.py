@@ -179,14 +179,16 @@ class _Flattener:
                 _boundary_only(conn, src is not None and dst is not None, "two machines")
             if src is not None and dst is not None:
                 self.link(Port(src, conn.source_event), Port(dst, conn.target_event), conn.asynchronous, conn.pos)
+            # A synchronous connection with the controller's own event joins the whole channel, both
+            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`).
             elif dst is not None:
                 inputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), conn.asynchronous))
-                if conn.bidirectional:
+                if not conn.asynchronous:
                     outputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), False))
                     self.both_ways.add((dst, conn.target_event.name))
             elif src is not None:
                 outputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), conn.asynchronous))
-                if conn.bidirectional:
+                if not conn.asynchronous:
                     inputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), False))
                     self.both_ways.add((src, conn.source_event.name))
             else:
@@ -268,14 +270,14 @@ def of_module(m: ast.Module) -> Network:
                     f.link(p, q, a or b or conn.asynchronous, conn.pos)
         # The platform is the environment: RoboTool joins its connections directly (a visible event of
         # the module), `(_async)` or not; only connections between controllers get a buffer.
+        # A connection with the platform joins the controller's whole channel, both directions, as
+        # RoboTool's renaming `ctrl_ref1::e <- e` does, `[ mult ]` or not.
         elif dst is not None:  # platform → controller
-            used |= {(conn.target, conn.target_event.name, d) for d in (True, *((False,) if conn.bidirectional else ()))}
-            f.expose(m.name, conn.source_event, _ends(dst, conn.target_event.name, True, conn.bidirectional, f),
-                     True, False, conn.pos)
+            used |= {(conn.target, conn.target_event.name, d) for d in (True, False)}
+            f.expose(m.name, conn.source_event, _ends(dst, conn.target_event.name, True, f), True, False, conn.pos)
         elif src is not None:  # controller → platform
-            used |= {(conn.source, conn.source_event.name, d) for d in (False, *((True,) if conn.bidirectional else ()))}
-            f.expose(m.name, conn.target_event, _ends(src, conn.source_event.name, False, conn.bidirectional, f),
-                     False, False, conn.pos)
+            used |= {(conn.source, conn.source_event.name, d) for d in (True, False)}
+            f.expose(m.name, conn.target_event, _ends(src, conn.source_event.name, False, f), False, False, conn.pos)
     # Controller events the module leaves unconnected, in either direction, stay visible under the
     # controller's name (as the interpreter's `_flatten_module` keeps them).
     for name, (c, ins, outs) in ends.items():
@@ -299,17 +301,18 @@ def _boundary_only(conn: ast.Connection, inner: bool, what: str) -> None:
         raise Unsupported(conn.pos, "asynchronous bidirectional connections of a machine are not encoded yet")
 
 
-def _ends(end: tuple[ast.Controller, dict, dict], event: str, incoming: bool, both: bool,
-          f: _Flattener) -> list[tuple[Port, bool]]:
+def _ends(end: tuple[ast.Controller, dict, dict], event: str, incoming: bool, f: _Flattener) -> list[tuple[Port, bool]]:
     """The machine ports behind a controller's event joined to the platform: those of the
-    connection's direction, and with `both` (`[mult]`) those of the other direction too."""
+    connection's direction, and those of the other direction joined synchronously inside the
+    controller (one synchronous link carries both directions; an asynchronous one has a direction)."""
     _c, ins, outs = end
     ports = list((ins if incoming else outs).get(event, []))
-    if both:
-        for port, inner_async in (outs if incoming else ins).get(event, []):
-            if all(port != p for p, _ in ports):
-                ports.append((port, inner_async))
-            f.both_ways.add((port.component, port.event.name))
+    for port, inner_async in (outs if incoming else ins).get(event, []):
+        if inner_async:
+            continue
+        if all(port != p for p, _ in ports):
+            ports.append((port, inner_async))
+        f.both_ways.add((port.component, port.event.name))
     return ports
 
 

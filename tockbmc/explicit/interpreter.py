@@ -832,30 +832,32 @@ class Interpreter:
             if c.source in local and c.target in local:
                 self._link(c.asynchronous, (local[c.source], c.source_event.name),
                            (local[c.target], c.target_event.name), None, c.target_event.type, c.pos)
+            # A synchronous connection with the controller's own event joins the whole channel, both
+            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`).
             elif c.source == ctrl.name and c.target in local:
                 b_in[c.source_event.name].append((local[c.target], c.target_event.name, c.asynchronous, c))
-                if c.bidirectional:  # RoboTool renames the whole channel: the machine's outputs are the controller's too
+                if not c.asynchronous:
                     b_out[c.source_event.name].append((local[c.target], c.target_event.name, False, c))
             elif c.source in local and c.target == ctrl.name:
                 b_out[c.target_event.name].append((local[c.source], c.source_event.name, c.asynchronous, c))
-                if c.bidirectional:
+                if not c.asynchronous:
                     b_in[c.target_event.name].append((local[c.source], c.source_event.name, False, c))
             else:
                 raise NotInterpretable(c.pos, f"connection from {c.source} to {c.target}")
         return b_in, b_out
 
     def _both_ways(self, info: tuple, event: str, vis: str, pos: ast.Pos) -> None:
-        """A bidirectional connection to the platform (`[mult]`): RoboTool renames the controller's
-        whole channel, so every machine port behind the event, whichever way its own connection
-        goes, is joined to the module's event in both directions (the BMC encoding's one
-        synchronous link carries both).  Only the links not made yet are added."""
+        """A connection to the platform: RoboTool renames the controller's whole channel, so every
+        machine port behind the event joined synchronously inside the controller is joined to the
+        module's event in both directions (the BMC encoding's one synchronous link carries both); one
+        joined asynchronously, in its drawn direction only.  Only the links not made yet are added."""
         _ctrl, b_in, b_out = info
-        ports = {(i, port): (i, port, a, c) for i, port, a, c in (*b_in.get(event, []), *b_out.get(event, []))}
-        for key, entry in ports.items():
-            if key not in self.in_links:
-                self._boundary_env([entry], vis, True, False, pos)
-            if key not in self.out_link:
-                self._boundary_env([entry], vis, False, False, pos)
+        for table, inbound in ((b_in, True), (b_out, False)):
+            for entry in table.get(event, []):
+                key = (entry[0], entry[1])
+                for d in ((inbound,) if entry[2] else (True, False)):
+                    if not (self.in_links.get(key) if d else self.out_link.get(key)):
+                        self._boundary_env([entry], vis, d, False, pos)
 
     def _boundary_env(self, entries: list, vis: str, inbound: bool, outer_async: bool = False,
                       pos: ast.Pos | None = None) -> None:
@@ -890,18 +892,15 @@ class Interpreter:
                 entries = cinfo[c.target][1].get(c.target_event.name, [])
                 # The platform is the environment: RoboTool joins its connections directly, `(_async)` or not.
                 self._boundary_env(entries, f"{self.ename}::{c.source_event.name}", True, False, c.pos)
-                if c.bidirectional:  # both directions, every machine port behind the event (`_both_ways`)
-                    used.add((c.target, "out", c.target_event.name))
-                    self._both_ways(cinfo[c.target], c.target_event.name, f"{self.ename}::{c.source_event.name}",
-                                    c.pos)
+                # the controller's whole channel, both directions (RoboTool renames `ctrl_ref1::e <- e`)
+                used.add((c.target, "out", c.target_event.name))
+                self._both_ways(cinfo[c.target], c.target_event.name, f"{self.ename}::{c.source_event.name}", c.pos)
             elif c.source in cinfo and c.target == pname:
                 used.add((c.source, "out", c.source_event.name))
                 entries = cinfo[c.source][2].get(c.source_event.name, [])
                 self._boundary_env(entries, f"{self.ename}::{c.target_event.name}", False, False, c.pos)
-                if c.bidirectional:
-                    used.add((c.source, "in", c.source_event.name))
-                    self._both_ways(cinfo[c.source], c.source_event.name, f"{self.ename}::{c.target_event.name}",
-                                    c.pos)
+                used.add((c.source, "in", c.source_event.name))
+                self._both_ways(cinfo[c.source], c.source_event.name, f"{self.ename}::{c.target_event.name}", c.pos)
             elif c.source in cinfo and c.target in cinfo:
                 used.add((c.source, "out", c.source_event.name))
                 used.add((c.target, "in", c.target_event.name))

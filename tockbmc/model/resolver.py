@@ -732,8 +732,11 @@ class Resolver:
                                     operations: list[ast.OperationInstance]) -> None:
         """An operation's events are the controller's: it must use them the same way round."""
         me = qname.rsplit("::", 1)[-1]
-        inputs = {c.source_event.name for c in connections if c.source == me}
-        outputs = {c.target_event.name for c in connections if c.target == me}
+        # a bidirectional connection (`[ mult ]`) carries the event both ways
+        inputs = {c.source_event.name for c in connections if c.source == me} | \
+            {c.target_event.name for c in connections if c.target == me and c.bidirectional}
+        outputs = {c.target_event.name for c in connections if c.target == me} | \
+            {c.source_event.name for c in connections if c.source == me and c.bidirectional}
         for inst in operations:
             sends, receives = event_directions(inst.operation)
             for e in inst.operation.events:
