@@ -1,7 +1,7 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
-[--specs] [--data] [--untimed] [--tick-tock]
+[--specs] [--data] [--untimed] [--tick-tock] [--operations] [--bidirectional]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` five
 refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
@@ -10,7 +10,13 @@ tick-tock model, the model on the left of three and the specification on the lef
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
 `--timeout` seconds per assertion.  With `--data` the machines also hold a sequence, a set and a
 tuple, updated and read by their actions and guards (quantifiers too), and receive a sequence
-whose length is at most 2 (`DATA_RANGES`).  Definite outcomes are compared, counterexample lengths
+whose length is at most 2 (`DATA_RANGES`).  With `--operations`, the machine's body (a controller's
+first machine's; not with `--data`) is also an operation `Mop(k : int)` whose parameter its statements
+and guards read, checked on its own (docs/semantics.md §4.8): the core forms timed and untimed, a
+reachability and five traces refinements over `OP_Mop::…` events, with `k` set to -1, 0 or 1.  With
+`--bidirectional`, one boundary connection of each controller is `[ mult ]` (§5.3), its machine both
+sending and receiving on it, and four traces refinements tell that event's two directions apart.
+Without these two flags a seed's case is as it was before them.  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that
 `random_case(seed)` reproduces it.
 """
@@ -31,9 +37,10 @@ from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
-    seed, timeout, controllers, specs, data, untimed, tick_tock = job  # past the timeout an outcome is unknown
-    rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock)
+def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
+    seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional = job
+    # past the timeout an outcome is unknown
+    rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock, operations, bidirectional)
     try:
         return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
     except tockbmc.ModelError:
@@ -57,11 +64,15 @@ def main() -> None:
     parser.add_argument("--untimed", action="store_true",
                         help="also check the untimed forms and refinements in the failures models")
     parser.add_argument("--tick-tock", action="store_true", help="also check refinements in the tick-tock model")
+    parser.add_argument("--operations", action="store_true",
+                        help="also check the machine's body as an operation on its own, with a parameter")
+    parser.add_argument("--bidirectional", action="store_true",
+                        help="make one boundary connection of a controller bidirectional ([ mult ])")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
-    seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock)
-             for seed in range(args.seed, args.seed + args.cases)]
+    seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
+              args.operations, args.bidirectional) for seed in range(args.seed, args.seed + args.cases)]
     with multiprocessing.Pool(args.jobs) as pool:
         done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)
         for seed, outcomes in done:

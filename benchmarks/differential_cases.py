@@ -20,6 +20,7 @@ show (see `_same_length`).  Used by
 from __future__ import annotations
 
 import random
+import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -107,18 +108,24 @@ def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int
     return "import sequence_toolkit::*\nimport set_toolkit::*\n" + rct, states
 
 
-def network_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
+def network_text(pick: Callable[[list], object], number: Callable[[int, int], int],
+                 bidirectional: bool = False) -> tuple[str, list[str]]:
     """A random controller M of two or three random machines in a chain: P's output b feeds Q's input
     a, and so on (each link synchronous or asynchronous); the environment feeds P's a, and the last
     machine's b is M's output.  The machines' `op(x)` is a platform operation, or one M defines
-    (a small graph with a variable, a wait or a guard, and perhaps an output on b)."""
+    (a small graph with a variable, a wait or a guard, and perhaps an output on b).  With
+    `bidirectional`, one of the two boundary connections is `[ mult ]` and its machine both sends
+    and receives on it (`_bidirectional`, drawn after everything else, so that a seed's case without
+    it is unchanged)."""
     names = ["P", "Q", "R"][:number(2, 3)]
     texts: list[str] = []
     p_states: list[str] = []
+    all_states: list[list[str]] = []
     for k, name in enumerate(names):
         text, states = machine_text(pick, number, name)
         texts.append(text if k == 0 else text.split("\n", 1)[1])  # one `interface Ops`
         p_states = p_states or states
+        all_states.append(states)
     lines = ["controller M {", "  event a : int", "  event b : int"]
     lines += _operation(pick, number) if number(0, 1) else ["  requires Ops"]
     lines += [f"  sref {n} = {n}" for n in names]
@@ -126,7 +133,39 @@ def network_text(pick: Callable[[list], object], number: Callable[[int, int], in
     for sender, receiver in zip(names, names[1:]):
         lines.append(f"  connection {sender} on b to {receiver} on a{pick(['', ' (_async)'])}")
     lines += [f"  connection {names[-1]} on b to M on b", "}"]
+    if bidirectional:
+        _bidirectional(pick, number, names, texts, all_states, lines)
     return "".join(texts) + "\n".join(lines) + "\n", [f"P::{s}" for s in p_states]
+
+
+def _bidirectional(pick: Callable[[list], object], number: Callable[[int, int], int], names: list[str],
+                   texts: list[str], states: list[list[str]], lines: list[str]) -> None:
+    """Make M's input a (the first machine's) or its output b (the last machine's) a bidirectional
+    connection, `[ mult ]`, drawn either way round (docs/semantics.md §5.3: both directions are M's,
+    `M::e.in` and `M::e.out`); its machine gets a transition that sends on that event and, unless it
+    has one, one that receives on it.  (Synchronous only: an asynchronous bidirectional connection of
+    a machine is not encoded yet.)"""
+    event = pick(["a", "b"])
+    k = 0 if event == "a" else len(names) - 1
+    machine = names[k]
+    boundary = [i for i, line in enumerate(lines) if line.strip() in
+                (f"connection M on a to {machine} on a", f"connection {machine} on b to M on b")]
+    i = boundary[0] if event == "a" else boundary[-1]
+    ends = (f"M on {event}", f"{machine} on {event}")
+    source, target = ends if number(0, 1) else ends[::-1]
+    lines[i] = f"  connection {source} to {target} [ mult ]"
+    extra = []
+    send = pick([f"{event}!x", f"{event}!(x + 1)", f"{event}!0"])
+    trigger = pick(["", "c", f"{event}?x", f"{event}.1", "a?x" if event == "b" else "c"])
+    parts = [f"from {pick(states[k])} to {pick(states[k])}", *([f"trigger {trigger}"] if trigger else []),
+             f"action {send}"]
+    extra.append(f"  transition m0 {{ {' '.join(parts)} }}")
+    if f"trigger {event}" not in texts[k] and not trigger.startswith(event):
+        extra.append(f"  transition m1 {{ from {pick(states[k])} to {pick(states[k])} "
+                     f"trigger {pick([f'{event}?x', f'{event}.1'])} }}")
+    body = texts[k].rstrip("\n")
+    assert body.endswith("\n}")
+    texts[k] = body[:-1] + "\n".join(extra) + "\n}\n"
 
 
 def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]) -> list[str]:
@@ -142,6 +181,99 @@ def _operation(pick: Callable[[list], object], number: Callable[[int, int], int]
     if any(part.startswith("condition") for part in parts):
         lines.append("    transition t2 { from s to f condition true }")  # a way out when the guard fails
     return [*lines, "  }"]
+
+
+# With `operations`, the machine's body (the first machine's, in a controller) as a defined operation
+# `Mop(k : int)` checked on its own (docs/semantics.md §4.8): `k` initialises x and replaces some
+# constants its statements and guards read, each occurrence with probability 1/2.
+PARAMETER_USES = [(r"x > 0", "x > k"), (r"x = 1\b", "x = k"), (r"b!\(x \+ 1\)", "b!(x + k)"), (r"x != 1", "x != k"),
+                  (r"x < 1", "x < k"), (r"x == 0", "x == k"), (r"trigger a\.1", "trigger a.k"), (r"op\(x\)", "op(k)")]
+
+
+def operation_text(rct: str, machine: str, pick: Callable[[list], object],
+                   number: Callable[[int, int], int]) -> str:
+    """Machine `machine`'s body in `rct` as `operation Mop(k : int)`, whose x starts at k and whose
+    statements and guards read k in place of some constants (`PARAMETER_USES`)."""
+    start = rct.index(f"stm {machine} {{\n")
+    end = rct.index("\n}\n", start) + 3
+    body = rct[start:end].replace(f"stm {machine} {{", "operation Mop(k : int) {", 1)
+    body = body.replace("var x : int = 0", "var x : int = k", 1)
+    for pattern, replacement in PARAMETER_USES:
+        body = re.sub(pattern, lambda m, r=replacement: r if number(0, 1) else m.group(0), body)
+    return body
+
+
+def operation_assertions(states: list[str], pick: Callable[[list], object]) -> str:
+    """The core forms of `Mop`, timed and untimed, one reachability, and traces refinements of
+    specifications over its events (`OP_Mop::…`, `OPERATION_SPECS`), each with k set to -1, 0 or 1
+    (or, for one, left at RoboTool's default 0)."""
+    def k() -> str:
+        return f" with parameter k of Mop set to {pick(['-1', '0', '1'])}"
+
+    timed = ["does not terminate", "is timelock-free", "is deadlock-free", "terminates", "is divergence-free",
+             "is deterministic"]
+    untimed = ["does not terminate", "is deadlock-free", "terminates", "is divergence-free", "is deterministic"]
+    text = "".join(f"assertion O{n}: Mop {f}{k()}.\n" for n, f in enumerate(timed))
+    text += f"assertion O{len(timed)}: {pick(states)} is reachable in Mop{k()}.\n"
+    text += "".join(f"untimed assertion OU{n}: Mop {f}{k()}.\n" for n, f in enumerate(untimed))
+    text += OPERATION_SPECS
+    refinements = [("untimed", "OAny"), ("untimed", "ONoB1"), ("timed", "OTAny"), ("timed", "OTNoCall0"),
+                   ("timed", "OEchoAEnds")]
+    text += "".join(f"{t} assertion OR{n}: Mop refines {spec} in the traces model{k() if n else ''}.\n"
+                    for n, (t, spec) in enumerate(refinements))
+    return text
+
+
+# Permissive specifications of the operation: every event (`OAny`, `OTAny` with tock too), every
+# event but one value (`ONoB1`, `OTNoCall0`), and `OEchoA` (`EchoA` of `SPECS`); each may end with ✓
+# at any time, as the operation does at its final state (its terminate hidden, docs/semantics.md
+# §4.8).  In a Timed section `P [] SKIP` and `P /\ SKIP` refuse tock (tock is shared by both sides,
+# §8.1, and SKIP refuses it), so there ✓ comes from `OTEnd`, which lets any number of tocks pass first.
+OPERATION_SPECS = """csp OSpecs csp-begin
+OAny = (OP_Mop::a.in?x -> OAny) [] (OP_Mop::a.out?x -> OAny) [] (OP_Mop::b.in?x -> OAny)
+       [] (OP_Mop::b.out?x -> OAny) [] (OP_Mop::c.in -> OAny) [] (OP_Mop::c.out -> OAny)
+       [] (OP_Mop::opCall?x -> OAny) [] SKIP
+ONoB1 = CHAOS(diff(Events, {OP_Mop::b.out.1})) /\\ SKIP
+csp-end
+timed csp OTSpecs csp-begin
+Timed(OneStep) {
+  OTEnd = SKIP |~| (WAIT(1) ; OTEnd)
+  OTEvery = (OP_Mop::a.in?x -> OTEvery) [] (OP_Mop::a.out?x -> OTEvery) [] (OP_Mop::b.in?x -> OTEvery)
+            [] (OP_Mop::b.out?x -> OTEvery) [] (OP_Mop::c.in -> OTEvery) [] (OP_Mop::c.out -> OTEvery)
+            [] (OP_Mop::opCall?x -> OTEvery)
+  OTAny = OTEvery /\\ OTEnd
+  OTNoCall0 = CHAOS(diff(Events, {OP_Mop::opCall.0})) /\\ OTEnd
+  OOthers(P) = (OP_Mop::a.out?y -> P) [] (OP_Mop::b.in?y -> P) [] (OP_Mop::c.in -> P) [] (OP_Mop::c.out -> P)
+               [] (OP_Mop::opCall?y -> P)
+  OEchoA = (OP_Mop::a.in?x -> OEchoed(x)) [] (OP_Mop::b.out?w -> OEchoA) [] OOthers(OEchoA)
+  OEchoed(x) = (OP_Mop::a.in?z -> OEchoed(z)) [] (OP_Mop::b.out!x -> OEchoA) [] OOthers(OEchoA)
+  OEchoAEnds = OEchoA /\\ OTEnd
+}
+csp-end
+"""
+
+
+def bidirectional_assertions(rct: str) -> str:
+    """Traces refinements of specifications that tell apart values in both directions of M's
+    bidirectional event (`network_text(bidirectional=True)`), timed and untimed."""
+    e = re.search(r"connection \w+ on (\w+) to \w+ on \w+ \[ mult \]", rct).group(1)  # type: ignore[union-attr]
+    return f"""timed csp BSpecs csp-begin
+Timed(OneStep) {{
+  BEnds(P) = P [| {{|M::terminate|}} |> SKIP
+  BNoOut1 = BEnds(CHAOS(diff(Events, {{M::{e}.out.1}})))
+  BNoIn0 = BEnds(CHAOS(diff(Events, {{M::{e}.in.0}})))
+  BNoOut1AfterIn1 = BEnds(CHAOS(Events) [| {{M::{e}.in.1}} |> CHAOS(diff(Events, {{M::{e}.out.1}})))
+}}
+csp-end
+csp BUSpecs csp-begin
+BUNoIn1AfterOut0 = CHAOS(Events) [| {{M::{e}.out.0}} |> CHAOS(diff(Events, {{M::{e}.in.1}}))
+BUNoIn1AfterOut0Ends = BUNoIn1AfterOut0 [| {{|M::terminate|}} |> SKIP
+csp-end
+timed assertion B0: M refines BNoOut1 in the traces model.
+timed assertion B1: M refines BNoIn0 in the traces model.
+timed assertion B2: M refines BNoOut1AfterIn1 in the traces model.
+untimed assertion B3: M refines BUNoIn1AfterOut0Ends in the traces model.
+"""
 
 
 def assertions_text(states: list[str], pick: Callable[[list], object], specs: bool = False,
@@ -356,12 +488,28 @@ def _visible(r: Result) -> int:
 
 
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
-                untimed: bool = False, tick_tock: bool = False) -> tuple[str, str]:
+                untimed: bool = False, tick_tock: bool = False, operations: bool = False,
+                bidirectional: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
     with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
     with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
-    with sequences, sets and tuples (`data_machine_text`; check it with `DATA_RANGES`)."""
+    with sequences, sets and tuples (`data_machine_text`; check it with `DATA_RANGES`).  With
+    `operations`, the machine's body (the first machine's, in a controller) is also the operation
+    `Mop(k : int)`, checked on its own (`operation_text`, `operation_assertions`); with
+    `bidirectional`, a controller's boundary connection on a or b is `[ mult ]`
+    (`network_text`, `bidirectional_assertions`).  Their draws come after all the others, so that
+    without them a seed's case is as before."""
     rng = random.Random(seed)
-    make = data_machine_text if data else network_text if rng.random() < controllers else machine_text
-    rct, states = make(rng.choice, rng.randint)
-    return rct, assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)
+    network = not data and rng.random() < controllers
+    make = data_machine_text if data else network_text if network else machine_text
+    rct, states = (network_text(rng.choice, rng.randint, bidirectional) if network and bidirectional
+                   else make(rng.choice, rng.randint))
+    assertions = assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)
+    if network and bidirectional:
+        assertions += bidirectional_assertions(rct)
+    if operations and not data:
+        machine = "P" if network else "M"
+        rct += operation_text(rct, machine, rng.choice, rng.randint)
+        body_states = [s.removeprefix("P::") for s in states]
+        assertions += operation_assertions(body_states, rng.choice)
+    return rct, assertions

@@ -22,15 +22,25 @@ assertions_text, compare, machine_text, network_text, data_machine_text = (
 
 @st.composite
 def cases(draw: st.DrawFn, make: Callable, specs: bool = False, untimed: bool = False,
-          timed: bool = True, tick_tock: bool = False) -> tuple[str, str]:
+          timed: bool = True, tick_tock: bool = False, operation: str | None = None,
+          bidirectional: bool = False) -> tuple[str, str]:
+    """A case of `make`; with `operation`, that machine's body is also the operation `Mop`, and its
+    assertions (`operation_assertions`) follow; with `bidirectional`, `network_text`'s boundary
+    connection `[ mult ]` and its refinements (`bidirectional_assertions`)."""
     def pick(options: list) -> object:
         return draw(st.sampled_from(options))
 
     def number(lo: int, hi: int) -> int:
         return draw(st.integers(lo, hi))
 
-    rct, states = make(pick, number)
-    return rct, assertions_text(states, pick, specs, untimed, timed, tick_tock)
+    rct, states = network_text(pick, number, bidirectional=True) if bidirectional else make(pick, number)
+    assertions = assertions_text(states, pick, specs, untimed, timed, tick_tock)
+    if bidirectional:
+        assertions += _cases.bidirectional_assertions(rct)
+    if operation:
+        rct += _cases.operation_text(rct, operation, pick, number)
+        assertions += _cases.operation_assertions([s.removeprefix("P::") for s in states], pick)
+    return rct, assertions
 
 
 # With divergence-freedom and determinism among the forms (session 6), machines cost about 1.5 s a
@@ -91,6 +101,24 @@ def test_engines_agree_on_random_machines_untimed_and_in_the_failures_models(cas
 @_settings(2)
 @given(cases(machine_text, timed=False, tick_tock=True))
 def test_engines_agree_on_random_machines_in_the_tick_tock_model(case: tuple[str, str]) -> None:
+    _agree(*case)
+
+
+# A machine's body as an operation checked on its own, with a parameter it reads (docs/semantics.md
+# §4.8; `benchmarks/differential.py --operations`): its assertions alone, timed, untimed and
+# refinements over `OP_Mop::…` events, the parameter set to -1, 0 or 1.
+@_settings(2)
+@given(cases(machine_text, timed=False, operation="M"))
+def test_engines_agree_on_random_operations_checked_on_their_own(case: tuple[str, str]) -> None:
+    _agree(*case)
+
+
+# A controller whose boundary connection on a or b is bidirectional, `[ mult ]` (§5.3;
+# `benchmarks/differential.py --bidirectional`), its machine sending and receiving on it; about 2 s
+# a case (the operations' test about 3 s).
+@_settings(2)
+@given(cases(network_text, bidirectional=True))
+def test_engines_agree_on_random_controllers_with_a_bidirectional_connection(case: tuple[str, str]) -> None:
     _agree(*case)
 
 
