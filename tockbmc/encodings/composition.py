@@ -165,6 +165,7 @@ class _Flattener:
         defined = {op.operation.name: op.operation for op in c.operations}
         names = [mi.machine.name for mi in c.machines]
         index: dict[str, int] = {}
+        machines = {mi.name: mi.machine for mi in c.machines}
         self.share(c.variables, f"{prefix}{c.name}.")
         for mi in c.machines:
             label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
@@ -180,15 +181,18 @@ class _Flattener:
             if src is not None and dst is not None:
                 self.link(Port(src, conn.source_event), Port(dst, conn.target_event), conn.asynchronous, conn.pos)
             # A synchronous connection with the controller's own event joins the whole channel, both
-            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`).
+            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`): a machine
+            # that also uses the event the other way round is listed that way too.
             elif dst is not None:
                 inputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), conn.asynchronous))
-                if not conn.asynchronous:
+                if not conn.asynchronous and ast.uses_event((machines[conn.target], *defined.values()),
+                                                            conn.target_event.name, sends=True):
                     outputs.setdefault(conn.source_event.name, []).append((Port(dst, conn.target_event), False))
                     self.both_ways.add((dst, conn.target_event.name))
             elif src is not None:
                 outputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), conn.asynchronous))
-                if not conn.asynchronous:
+                if not conn.asynchronous and ast.uses_event((machines[conn.source], *defined.values()),
+                                                            conn.source_event.name, sends=False):
                     inputs.setdefault(conn.target_event.name, []).append((Port(src, conn.source_event), False))
                     self.both_ways.add((src, conn.source_event.name))
             else:
@@ -272,12 +276,13 @@ def of_module(m: ast.Module) -> Network:
         # the module), `(_async)` or not; only connections between controllers get a buffer.
         # A connection with the platform joins the controller's whole channel, both directions, as
         # RoboTool's renaming `ctrl_ref1::e <- e` does, `[ mult ]` or not.
-        elif dst is not None:  # platform → controller
-            used |= {(conn.target, conn.target_event.name, d) for d in (True, False)}
-            f.expose(m.name, conn.source_event, _ends(dst, conn.target_event.name, True, f), True, False, conn.pos)
-        elif src is not None:  # controller → platform
-            used |= {(conn.source, conn.source_event.name, d) for d in (True, False)}
-            f.expose(m.name, conn.target_event, _ends(src, conn.source_event.name, False, f), False, False, conn.pos)
+        elif dst is not None or src is not None:  # platform → controller, or controller → platform
+            name, ev, outer = ((conn.target, conn.target_event.name, conn.source_event) if dst is not None
+                               else (conn.source, conn.source_event.name, conn.target_event))
+            _c, ins, outs = ends[name]
+            used |= {(name, ev, True), (name, ev, False)}
+            f.expose(m.name, outer, ins.get(ev, []), True, False, conn.pos)
+            f.expose(m.name, outer, outs.get(ev, []), False, False, conn.pos)
     # Controller events the module leaves unconnected, in either direction, stay visible under the
     # controller's name (as the interpreter's `_flatten_module` keeps them).
     for name, (c, ins, outs) in ends.items():
@@ -299,21 +304,6 @@ def _boundary_only(conn: ast.Connection, inner: bool, what: str) -> None:
         raise Unsupported(conn.pos, f"bidirectional connections between {what} are not encoded yet")
     if conn.asynchronous and what == "two machines":
         raise Unsupported(conn.pos, "asynchronous bidirectional connections of a machine are not encoded yet")
-
-
-def _ends(end: tuple[ast.Controller, dict, dict], event: str, incoming: bool, f: _Flattener) -> list[tuple[Port, bool]]:
-    """The machine ports behind a controller's event joined to the platform: those of the
-    connection's direction, and those of the other direction joined synchronously inside the
-    controller (one synchronous link carries both directions; an asynchronous one has a direction)."""
-    _c, ins, outs = end
-    ports = list((ins if incoming else outs).get(event, []))
-    for port, inner_async in (outs if incoming else ins).get(event, []):
-        if inner_async:
-            continue
-        if all(port != p for p, _ in ports):
-            ports.append((port, inner_async))
-        f.both_ways.add((port.component, port.event.name))
-    return ports
 
 
 def network_of(element: ast.StateMachine | ast.Controller | ast.Module,

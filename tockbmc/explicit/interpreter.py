@@ -820,6 +820,8 @@ class Interpreter:
             defined[oi.operation.name] = oi.operation
             defined[oi.name] = oi.operation
         local: dict[str, int] = {}
+        machines = {mi.name: mi.machine for mi in ctrl.machines}
+        ctrl_ops = [oi.operation for oi in ctrl.operations]
         for mi in ctrl.machines:
             local[mi.name] = self._add_inst(mi.machine, prefix + mi.name, defined)
         b_in: dict[str, list] = defaultdict(list)
@@ -833,14 +835,17 @@ class Interpreter:
                 self._link(c.asynchronous, (local[c.source], c.source_event.name),
                            (local[c.target], c.target_event.name), None, c.target_event.type, c.pos)
             # A synchronous connection with the controller's own event joins the whole channel, both
-            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`).
+            # directions, whichever way it is drawn (RoboTool renames `stm_ref0::e <- e`): a machine
+            # that also uses the event the other way round is listed that way too.
             elif c.source == ctrl.name and c.target in local:
                 b_in[c.source_event.name].append((local[c.target], c.target_event.name, c.asynchronous, c))
-                if not c.asynchronous:
+                if not c.asynchronous and ast.uses_event((machines[c.target], *ctrl_ops), c.target_event.name,
+                                                         sends=True):
                     b_out[c.source_event.name].append((local[c.target], c.target_event.name, False, c))
             elif c.source in local and c.target == ctrl.name:
                 b_out[c.target_event.name].append((local[c.source], c.source_event.name, c.asynchronous, c))
-                if not c.asynchronous:
+                if not c.asynchronous and ast.uses_event((machines[c.source], *ctrl_ops), c.source_event.name,
+                                                         sends=False):
                     b_in[c.target_event.name].append((local[c.source], c.source_event.name, False, c))
             else:
                 raise NotInterpretable(c.pos, f"connection from {c.source} to {c.target}")
@@ -848,16 +853,16 @@ class Interpreter:
 
     def _both_ways(self, info: tuple, event: str, vis: str, pos: ast.Pos) -> None:
         """A connection to the platform: RoboTool renames the controller's whole channel, so every
-        machine port behind the event joined synchronously inside the controller is joined to the
-        module's event in both directions (the BMC encoding's one synchronous link carries both); one
-        joined asynchronously, in its drawn direction only.  Only the links not made yet are added."""
+        machine port behind the event, inputs and outputs, is joined to the module's event, each in its
+        direction (a port used both ways, joined synchronously inside the controller, is in both
+        tables; the BMC encoding's one synchronous link carries both).  Only the links not made yet
+        are added."""
         _ctrl, b_in, b_out = info
         for table, inbound in ((b_in, True), (b_out, False)):
             for entry in table.get(event, []):
                 key = (entry[0], entry[1])
-                for d in ((inbound,) if entry[2] else (True, False)):
-                    if not (self.in_links.get(key) if d else self.out_link.get(key)):
-                        self._boundary_env([entry], vis, d, False, pos)
+                if not (self.in_links.get(key) if inbound else self.out_link.get(key)):
+                    self._boundary_env([entry], vis, inbound, False, pos)
 
     def _boundary_env(self, entries: list, vis: str, inbound: bool, outer_async: bool = False,
                       pos: ast.Pos | None = None) -> None:

@@ -793,6 +793,38 @@ class OperationMachine(StateMachine):
     operation: OperationDef | None = None
 
 
+def event_directions(behaviour: Behaviour) -> tuple[set[str], set[str]]:
+    """(events the behaviour sends, events it receives), from its actions and triggers."""
+    sends: set[str] = set()
+    receives: set[str] = set()
+
+    def walk(s: Stmt | None) -> None:
+        for st in statements(s):
+            if isinstance(st, Send):
+                sends.add(st.event.name)
+            elif isinstance(st, Receive):
+                receives.add(st.event.name)
+
+    for n in behaviour.nodes:
+        for a in (n.entry, n.during, n.exit):
+            walk(a)
+    for t in behaviour.transitions:
+        if t.trigger is not None:
+            (sends if t.trigger.kind == "output" else receives).add(t.trigger.event.name)
+        walk(t.action)
+    return sends, receives
+
+
+def uses_event(behaviours: Iterable[Behaviour], event: str, sends: bool) -> bool:
+    """Whether any of these behaviours (a machine and the operations it may call) sends (else
+    receives) on `event`."""
+    for b in behaviours:
+        out, into = event_directions(b)
+        if event in (out if sends else into):
+            return True
+    return False
+
+
 def qualifies(qualifier: str, machine: str) -> bool:
     """Whether `qualifier` (the last part of the name before a state's, as in `stm0::s`) names
     machine `machine`: its own name, or for an operation checked on its own (`OP_op`) the operation's."""

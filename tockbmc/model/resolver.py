@@ -738,7 +738,7 @@ class Resolver:
         outputs = {c.target_event.name for c in connections if c.target == me} | \
             {c.source_event.name for c in connections if c.source == me and c.bidirectional}
         for inst in operations:
-            sends, receives = event_directions(inst.operation)
+            sends, receives = ast.event_directions(inst.operation)
             for e in inst.operation.events:
                 if e.name in sends and e.name in inputs - outputs:
                     self.report(e.pos, f"operation '{inst.operation.name}' sends '{e.name}', but controller "
@@ -774,12 +774,12 @@ class Resolver:
             self.error(path, tree, f"type error: connection joins '{s_name}.{s_ev.name}' "
                        f"({s_ev.type or 'no value'}) to '{t_name}.{t_ev.name}' ({t_ev.type or 'no value'})")
         if isinstance(s_elem, ast.StateMachine) and not mult:
-            sends, receives = event_directions(s_elem)
+            sends, receives = ast.event_directions(s_elem)
             if s_ev.name in receives and s_ev.name not in sends:
                 self.error(path, src_event, f"'{s_name}' only receives '{s_ev.name}', so it cannot be the source "
                            f"of this connection")
         if isinstance(t_elem, ast.StateMachine) and not mult:
-            sends, receives = event_directions(t_elem)
+            sends, receives = ast.event_directions(t_elem)
             if t_ev.name in sends and t_ev.name not in receives:
                 self.error(path, tgt_event, f"'{t_name}' only sends '{t_ev.name}', so it cannot be the target "
                            f"of this connection")
@@ -1136,23 +1136,3 @@ def _behaviours_of(element: object) -> list[ast.Behaviour]:
     return []
 
 
-def event_directions(behaviour: ast.Behaviour) -> tuple[set[str], set[str]]:
-    """(events the behaviour sends, events it receives), from its actions and triggers."""
-    sends: set[str] = set()
-    receives: set[str] = set()
-
-    def walk(s: ast.Stmt | None) -> None:
-        for st in ast.statements(s):
-            if isinstance(st, ast.Send):
-                sends.add(st.event.name)
-            elif isinstance(st, ast.Receive):
-                receives.add(st.event.name)
-
-    for n in behaviour.nodes:
-        for a in (n.entry, n.during, n.exit):
-            walk(a)
-    for t in behaviour.transitions:
-        if t.trigger is not None:
-            (sends if t.trigger.kind == "output" else receives).add(t.trigger.event.name)
-        walk(t.action)
-    return sends, receives
