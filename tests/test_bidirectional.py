@@ -172,3 +172,29 @@ controller M {
     project = tockbmc.load(tmp_path)
     for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
         assert [r.verdict for r in rs] == ["holds"], rs
+
+
+def test_a_connection_between_machines_joins_only_the_senders_output_with_the_receivers_input(
+        tmp_path: Path) -> None:
+    """A second review's finding, older than session 10: BMC paired every edge of the two ends of a
+    machine-to-machine connection, two outputs included, so B's own `e!1` was a hidden step with
+    A's and `C refines STOP` held; docs/semantics.md §5.1 joins A's output with B's input only, and
+    B's output, against the connection, is seen as `B::e.out.1` (§5.3), as the explicit engine had it."""
+    write_files(tmp_path, {"m.rct": """
+package b
+interface IE { event e : int }
+stm A { uses IE initial i state S {} state U {} transition t0 { from i to S } transition t2 { from S to U action e!1 } }
+stm B { uses IE var x : int initial i state S {} state U {} state W {}
+  transition t0 { from i to S } transition t1 { from S to U action e!1 } transition t2 { from U to W trigger e?x } }
+controller C {
+  sref a = A
+  sref b = B
+  connection a on e to b on e
+}
+""", "m.assertions": "import b::*\ncsp S csp-begin\nNothing = STOP\ncsp-end\n"
+                     "untimed assertion A1: C refines Nothing .\nuntimed assertion A3: C is deterministic .\n"})
+    project = tockbmc.load(tmp_path)
+    for rs in (check(project, bound=10, ranges=RANGES), check_explicit(project, None, 10, RANGES, {}, 10)):
+        got = {r.assertion: r for r in rs}
+        assert {n: r.verdict for n, r in got.items()} == {"A1": "violated", "A3": "holds"}, rs
+        assert [s.event for s in got["A1"].trace if s.kind != "internal"] == ["B::e.out.1"], got["A1"].trace

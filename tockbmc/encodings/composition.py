@@ -97,8 +97,10 @@ class Network:
         if found is not None:
             link, role = found
             other = link.receiver if role == "sender" else link.sender
-            assert isinstance(other, External)
-            return other.name
+            if isinstance(other, External):
+                return other.name
+            # a machine-to-machine link joins only the sender's output with the receiver's input; the
+            # event used the other way round is not joined, and is seen as an unconnected one
         return f"{self.components[component].machine.name}::{event}"
 
 

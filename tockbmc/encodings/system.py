@@ -365,7 +365,12 @@ class TransitionSystem:
                         continue
                     link, role = found
                     other = link.receiver if role == "sender" else link.sender
-                    if isinstance(other, External) and not link.asynchronous:
+                    if isinstance(other, Port) and not link.asynchronous and e.kind != ("out" if role == "sender"
+                                                                                            else "in"):
+                        # against its connection's direction (the sender receiving, the receiver sending):
+                        # not joined, so visible under the machine's name, as an unconnected event is
+                        add("event", "local", ((c, e),))
+                    elif isinstance(other, External) and not link.asynchronous:
                         add("event", "local", ((c, e),), link)
                     elif link.asynchronous:
                         wants = "out" if role == "sender" else "in"
@@ -383,10 +388,8 @@ class TransitionSystem:
                     for eb in self.components[b.component].automaton.edges:
                         if eb.event is None or eb.event.name != b.event.name or eb.kind not in ("in", "out"):
                             continue
-                        if ea.kind == eb.kind == "in" and a.event.type is not None:
-                            raise Unsupported(link.pos, f"both ends of the connection on '{a.event.name}' "
-                                                        "receive; neither sends a value")
-                        add("internal", "sync", ((a.component, ea), (b.component, eb)), link)
+                        if (ea.kind, eb.kind) == ("out", "in"):  # the sender's output with the receiver's input
+                            add("internal", "sync", ((a.component, ea), (b.component, eb)), link)
             elif link.asynchronous and isinstance(link.sender, External):
                 add("event", "env-write", (), link)
             elif link.asynchronous and isinstance(link.receiver, External):

@@ -255,9 +255,13 @@ def alphabet_of(system: TransitionSystem) -> list[tuple[tuple, int]]:
         for e in comp.machine.events:
             found = system.network.route(c, e.name)
             ends = (found[0].receiver, found[0].sender) if found is not None else ()
-            if ends and not any(isinstance(end, External) for end in ends):
-                continue  # machine to machine: internal
             name = canonical(system.network.visible_name(c, e.name))
+            if found is not None and not any(isinstance(end, External) for end in ends):
+                # machine to machine: internal, but for the direction against the link (the sender
+                # receiving, the receiver sending), which is seen under the machine's name
+                against = "in" if found[1] == "sender" else "out"
+                out.append(((name, against), int(e.type is not None)))
+                continue
             out += [((name, d), int(e.type is not None)) for d in ("in", "out")]
         for op in comp.machine.operations:
             out.append(((canonical(f"{system.name}::{op.name}Call"),), len(op.parameters)))
