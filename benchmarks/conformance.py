@@ -6,7 +6,8 @@ With --jobs N (default 1) the assertions of every case are decided in N worker p
 Each case is checked as RoboTool reads it: RoboTool's default ranges (core_int=-2..2,
 core_real=-2..2, core_nat=0..2) under the case's own instantiation, and RoboTool's default
 values for constants without one.  Every assertion of the suite is written to hold, so any
-other definite verdict is one decided differently from RoboTool.
+other definite verdict is one decided differently from RoboTool.  One line per assertion (an
+`unsupported` one with the start of its reason), then the counts.
 """
 
 from __future__ import annotations
@@ -61,8 +62,7 @@ def report(case: str, r: Result, counts: collections.Counter[str]) -> None:
     counts[r.verdict] += 1
     if r.verdict == "violated":  # every assertion of the suite holds in RoboTool
         counts["decided differently from RoboTool"] += 1
-    if r.verdict != "unsupported":
-        print(f"{case:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s  {(r.reason or '')[:80]}", flush=True)
+    print(f"{case:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s  {(r.reason or '')[:80]}", flush=True)
 
 
 if __name__ == "__main__":

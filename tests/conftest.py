@@ -65,6 +65,17 @@ def write_files(directory: Path, files: dict[str, str]) -> Path:
     return directory
 
 
+def both_engines(project: object, ranges: object, bound: int, timeout: float = 60) -> tuple[list, list]:
+    """One project's results from BMC and from the explicit engine, under the same configuration
+    (these ranges, RoboTool's defaults for the rest), for tests that expect the two to agree."""
+    from tockbmc.check import check
+    from tockbmc.explicit.engine import check_explicit
+    from tockbmc.model.config import configure
+    config = configure(project, ranges)  # type: ignore[arg-type]
+    return (check(project, bound=bound, config=config),  # type: ignore[arg-type]
+            check_explicit(project, None, bound, ranges, {}, timeout, config=config))  # type: ignore[arg-type]
+
+
 def load_generator() -> ModuleType:
     """`benchmarks/generate.py`, imported by path (benchmarks/ is not a package)."""
     return _load_benchmark("tockbmc_benchmarks_generate", GENERATOR)

@@ -13,13 +13,12 @@ from functools import cache
 from pathlib import Path
 
 import pytest
-from conftest import write_files
+from conftest import both_engines, write_files
 
 import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit
-from tockbmc.model.config import configure
 from tockbmc.model.result import Result
 
 MODEL = Path(__file__).parent / "models" / "bidirectional"
@@ -29,11 +28,8 @@ EXPECTED = {"M1": "holds", "M2": "violated", "M3": "holds", "M4": "holds", "C1":
 
 @cache
 def results(engine: str) -> dict[str, Result]:
-    project = tockbmc.load(MODEL)
-    config = configure(project, RANGES)
-    rs = (check(project, bound=20, config=config) if engine == "bmc"
-          else check_explicit(project, None, 20, RANGES, {}, 60, config=config))
-    return {r.assertion: r for r in rs}
+    bmc, explicit = both_engines(tockbmc.load(MODEL), RANGES, 20)
+    return {r.assertion: r for r in (bmc if engine == "bmc" else explicit)}
 
 
 @pytest.mark.parametrize("engine", ["bmc", "explicit"])
@@ -116,8 +112,7 @@ csp-end
 untimed assertion M1: Mod refines EchoesMod .
 untimed assertion M2: Mod refines EchoesMixed .
 """})
-    project = tockbmc.load(tmp_path)
-    for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
+    for rs in both_engines(tockbmc.load(tmp_path), RANGES, 8, 10):
         assert {r.assertion: r.verdict for r in rs} == {"M1": "holds", "M2": "violated"}, rs
 
 
@@ -135,8 +130,7 @@ csp-end
 untimed assertion C1: C refines Echoes .
 untimed assertion C2: C is deterministic .
 """})
-    project = tockbmc.load(tmp_path)
-    for rs in (check(project, bound=8, ranges=RANGES), check_explicit(project, None, 8, RANGES, {}, 10)):
+    for rs in both_engines(tockbmc.load(tmp_path), RANGES, 8, 10):
         assert {r.assertion: r.verdict for r in rs} == {"C1": "holds", "C2": "holds"}, rs
 
 

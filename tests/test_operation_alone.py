@@ -12,11 +12,10 @@ from fractions import Fraction
 from functools import cache
 from pathlib import Path
 
+from conftest import both_engines
+
 import tockbmc
-from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
-from tockbmc.explicit.engine import check_explicit
-from tockbmc.model.config import configure
 from tockbmc.model.result import Result
 
 MODEL = Path(__file__).parent / "models" / "operation_alone"
@@ -36,11 +35,8 @@ EXPECTED = {
 
 @cache
 def results(engine: str) -> dict[str, Result]:
-    project = tockbmc.load(MODEL)
-    config = configure(project, RANGES)
-    rs = (check(project, bound=20, config=config) if engine == "bmc"
-          else check_explicit(project, None, 20, RANGES, {}, 60, config=config))
-    return {r.assertion: r for r in rs}
+    bmc, explicit = both_engines(tockbmc.load(MODEL), RANGES, 20)
+    return {r.assertion: r for r in (bmc if engine == "bmc" else explicit)}
 
 
 def test_the_verdicts_worked_out_by_hand_in_both_engines() -> None:
@@ -79,8 +75,5 @@ def test_a_state_qualified_by_the_operations_name(tmp_path: Path) -> None:
     (tmp_path / "r.assertions").write_text("import ops::*\nassertion R1: addk::s is reachable in addk .\n"
                                            "assertion R2: ops::addk::s is reachable in addk .\n"
                                            "assertion R3: addk::f is reachable in addk .\n")
-    project = tockbmc.load(tmp_path)
-    config = configure(project, RANGES)
-    for rs in (check(project, bound=12, config=config), check_explicit(project, None, 12, RANGES, {}, 30,
-                                                                         config=config)):
+    for rs in both_engines(tockbmc.load(tmp_path), RANGES, 12, 30):
         assert {r.assertion: r.verdict.value for r in rs} == {"R1": "holds", "R2": "holds", "R3": "holds"}, rs
