@@ -10,6 +10,7 @@ constants without one.  Each must hold, except the ones listed in `DIFFERENCES` 
 
 from __future__ import annotations
 
+import os
 from functools import cache
 
 from conftest import CONFORMANCE
@@ -18,6 +19,7 @@ from tockbmc import ModelError, load
 from tockbmc.check import check
 from tockbmc.model import ast
 from tockbmc.model.config import ROBOTOOL_RANGES, Configuration, configure
+from tockbmc.parallel import InProcess, InProcesses, Job
 
 BOUND = 12
 
@@ -99,7 +101,10 @@ def robotool_config(project: ast.Project) -> Configuration:
 
 @cache
 def results() -> dict[tuple[str, str], tuple[str, str]]:
-    out = {}
+    """Every checked assertion's verdict and reason, decided in one worker process per core (as
+    `check -j`, whose results are those of one process: tests/test_parallel.py)."""
+    work: list[tuple[Job, int]] = []
+    keys: list[tuple[str, str]] = []
     for case in sorted((CONFORMANCE / "robochart").iterdir()):
         if case.name in NOT_CHECKED:
             continue
@@ -107,10 +112,13 @@ def results() -> dict[tuple[str, str], tuple[str, str]]:
             project = load(case)
         except ModelError:
             continue  # test_conformance_load.py says which cases load
-        names = [a.name for a in project.assertions if (case.name, a.name) not in SLOW]
-        for r in check(project, names, bound=BOUND, timeout=60, config=robotool_config(project)):
-            out[(case.name, r.assertion)] = (r.verdict, r.reason or "")
-    return out
+        job = Job(robotool_config(project), BOUND, 60)
+        for i, a in enumerate(project.assertions):
+            if (case.name, a.name) not in SLOW:
+                work.append((job, i))
+                keys.append((case.name, a.name))
+    runner = InProcesses(work, os.cpu_count() or 1) if (os.cpu_count() or 1) > 1 else InProcess(work)
+    return {keys[n]: (r.verdict, r.reason or "") for n, r in runner}
 
 
 def test_every_supported_assertion_holds_or_is_a_recorded_difference() -> None:
