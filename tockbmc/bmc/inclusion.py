@@ -140,25 +140,12 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
     def target_for(r: SpecRefusal) -> Target:
         return lambda s: z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
 
-    # The refusals after one trace are searched together, on one unrolling (`bmc_each`); only one
-    # not found so is searched on its own, where k-induction may show that none is reachable.
-    by_trace: dict[tuple, list[SpecRefusal]] = {}
-    for r in wanted:
-        by_trace.setdefault(tuple(r.events), []).append(r)
-    made: set[int] = set()
-    for events, group in by_trace.items():
-        if spent(timeout):
-            break
-        shared = bmc_each(_following(make, SpecTrace(events, False)), [target_for(r) for r in group], bound,
-                          timeout())
-        made.update(id(r) for r, ok in zip(group, shared, strict=True) if ok)
-    for r in wanted:
-        if id(r) in made:
-            continue
+    def settle(r: SpecRefusal) -> Inclusion | None:
+        """Refusal `r` searched on its own, where k-induction may show that none is reachable: None if made."""
         trace = SpecTrace(r.events, False)
         outcome = _performs(partial(_following, make, trace), target_for(r), bound, timeout, progress)
         if outcome.status == Status.FOUND:
-            continue
+            return None
         shown = [_event_text(e) for e in r.events]
         steps = tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {spec_name}", {}, {})
                       for j, e in enumerate(shown))
@@ -174,6 +161,20 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
         why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
         return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to refuse everything else in a stable configuration "
                                           f"({why})", steps)
+
+    # The refusals after one trace are searched together, on one unrolling (`bmc_each`); one not
+    # found so is searched on its own at once, where k-induction may show that none is reachable.
+    by_trace: dict[tuple, list[SpecRefusal]] = {}
+    for r in wanted:
+        by_trace.setdefault(tuple(r.events), []).append(r)
+    for events, group in by_trace.items():
+        shared = ([False] * len(group) if spent(timeout) else
+                  bmc_each(_following(make, SpecTrace(events, False)), [target_for(r) for r in group], bound,
+                           timeout()))
+        for r, ok in zip(group, shared, strict=True):
+            failed = None if ok else settle(r)
+            if failed is not None:
+                return failed
     return Inclusion(Verdict.HOLDS, f"every trace of {spec_name} with up to {length} events is a trace of {element}, "
                                     f"and each of its {len(wanted)} stable refusals after them one of {element}'s "
                                     f"({len(traces)} traces listed, each within {bound} steps)")
@@ -205,25 +206,13 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
         return lambda s: (z3.And(followed(s), offers_within(s, mon, r, channels, channel_of)) if r is not None
                           else followed(s))
 
-    # The checks of one observation are searched together on one unrolling (`bmc_each`); one not
-    # made so is searched on its own, where k-induction may show that it cannot be.
-    groups: dict[tuple[int, bool], list[int]] = {}
-    for n, (o, r) in enumerate(checks):
-        groups.setdefault((id(o), o.ticks and o.maximal and r is None), []).append(n)
-    made: set[int] = set()
-    for (_o, ticks), members in groups.items():
-        if spent(timeout):
-            break
-        o = checks[members[0]][0]
-        shared = bmc_each(system_for(o, ticks), [target_for(checks[n][1]) for n in members], bound, timeout())
-        made.update(n for n, ok in zip(members, shared, strict=True) if ok)
-    for n, (o, r) in enumerate(checks):
-        if n in made:
-            continue
+    def settle(n: int) -> Inclusion | None:
+        """Check `n` on its own, where k-induction may show that it cannot be made: None if made."""
+        o, r = checks[n]
         ticks = o.ticks and o.maximal and r is None  # the element must then terminate too
         outcome = _performs(partial(system_for, o, ticks), target_for(r), bound, timeout, progress)
         if outcome.status == Status.FOUND:
-            continue
+            return None
         steps = observation_steps(o, channels, spec_name, ticks)
         seen: dict[str, object] = {"tock_refusals": tock_refusal_list(o, channels)}
         what = (f"{spec_name} has this observation{' and then terminates' if ticks else ''}"
@@ -234,6 +223,21 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
                                                f"number of steps ({outcome.reason})", steps, seen)
         why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
         return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to make it ({why})", steps, seen)
+
+    # The checks of one observation are searched together on one unrolling (`bmc_each`); one not
+    # made so is searched on its own at once (the first that cannot be made ends the check, before
+    # the observations after it are searched), where k-induction may show that it cannot be.
+    groups: dict[tuple[int, bool], list[int]] = {}
+    for n, (o, r) in enumerate(checks):
+        groups.setdefault((id(o), o.ticks and o.maximal and r is None), []).append(n)
+    for (_o, ticks), members in groups.items():
+        o = checks[members[0]][0]
+        shared = ([False] * len(members) if spent(timeout) else
+                  bmc_each(system_for(o, ticks), [target_for(checks[n][1]) for n in members], bound, timeout()))
+        for n, ok in zip(members, shared, strict=True):
+            failed = None if ok else settle(n)
+            if failed is not None:
+                return failed
     return Inclusion(Verdict.HOLDS, f"every tick-tock observation of {spec_name} with up to {length} events is one of "
                                     f"{element}'s: {sum(1 for o in observations if o.maximal)} observations listed, "
                                     f"each with the refusals before its tocks, and {len(checks)} checks in all, each "

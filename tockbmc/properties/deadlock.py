@@ -37,9 +37,29 @@ def _nothing_ever(system: TransitionSystem) -> z3.BoolRef:
 QE_MS = 2000  # milliseconds for eliminating the quantifier of one time-only formula
 
 
+_ELIMINATED: dict[tuple[int, int], tuple[z3.BoolRef, z3.BoolRef]] = {}  # by context and id: (formula, result)
+_ELIMINATED_CAP = 4096
+
+
 def _without_quantifier(formula: z3.BoolRef) -> z3.BoolRef:
     """An equivalent quantifier-free formula when Z3's elimination finds one (linear guards on
-    clocks), which every later check then solves without quantifier instantiation; else `formula`."""
+    clocks), which every later check then solves without quantifier instantiation; else `formula`.
+
+    Z3 shares equal terms, so one formula asked again (a specification's refusal, checked after each
+    of its traces on a system built anew) has the same id in its context: the answer is kept, with
+    the formula (and so its context), so that neither the id nor the context is reused meanwhile."""
+    key = (id(formula.ctx), formula.get_id())
+    kept = _ELIMINATED.get(key)
+    if kept is not None:
+        return kept[1]
+    if len(_ELIMINATED) >= _ELIMINATED_CAP:
+        _ELIMINATED.clear()
+    out = _eliminate(formula)
+    _ELIMINATED[key] = (formula, out)
+    return out
+
+
+def _eliminate(formula: z3.BoolRef) -> z3.BoolRef:
     goal = z3.Goal()
     goal.add(formula)
     try:
