@@ -7,6 +7,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from conftest import both_engines, write_files
 
 from tockbmc import ModelError, Project, load
 from tockbmc.check import check
@@ -152,3 +153,36 @@ def test_input_sequences_need_a_length_range_for_the_explicit_engine(tmp_path: P
     [r] = check(project, bound=6, ranges=Ranges({"core_nat": Range(Fraction(0), Fraction(1))}))
     assert r.verdict == Verdict.VIOLATED and r.extra["replayed"] == "yes"
     assert [s.event for s in r.trace if s.event] == ["M::e.in.<1, 1>"]
+
+
+SHORT_INPUT = """\
+stm M {
+  event a : int
+  event d : Seq(int)
+  var x : int = 0
+  var s : Seq(int) = <>
+  initial i
+  state S0 { }
+  final F
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S0 trigger d?s }
+  transition t2 { from S0 to F trigger a?x }
+}
+"""
+
+
+def test_a_refusal_of_an_input_sequence_of_bounded_length_is_decided(tmp_path: Path) -> None:
+    """`d?s` with `M::d`'s length in 0..2: a refusal says "no value of d is accepted", a universal
+    over the sequence, whose items' range was a second quantifier inside it; Z3 gave no answer at
+    depth 1 in 10 s.  The items of a sequence shorter than 16 are now constrained one by one.  By
+    hand: M takes `a` and terminates, which untimed deadlock freedom counts as a deadlock (3 steps:
+    the initial transition is internal, then `a.in`, then `terminate`); in the timed model
+    termination is no deadlock, and S0 offers `a` and `d` for ever."""
+    write_files(tmp_path, {"m.rct": SHORT_INPUT, "m.assertions": "untimed assertion U1: M is deadlock-free.\n"
+                                                                 "assertion A2: M is deadlock-free.\n"})
+    ranges = Ranges({"core_int": Range(Fraction(-1), Fraction(1))}, {"M::d": Range(Fraction(0), Fraction(2))})
+    symbolic, concrete = both_engines(load(tmp_path), ranges, bound=12, timeout=20)
+    for results in (symbolic, concrete):
+        assert [(r.assertion, r.verdict) for r in results] == [("U1", Verdict.VIOLATED), ("A2", Verdict.HOLDS)]
+    shown = [s.event for s in symbolic[0].trace if s.kind != "internal"]
+    assert len(shown) == 2 and shown[0].startswith("M::a.in.") and shown[1] == "M::terminate"

@@ -7,6 +7,7 @@ enumerations and given types are integers (enumeration literal i is i).
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from typing import Union
 
@@ -185,6 +186,9 @@ def range_bounds(name: str, sort: z3.SortRef) -> tuple[z3.ArithRef, z3.ArithRef]
     return z3.Const(f"range[{name}].low", sort), z3.Const(f"range[{name}].high", sort)  # type: ignore[return-value]
 
 
+UNROLLED_LENGTH = 16  # a sequence whose length range ends below this has its items constrained one by one
+
+
 def _container_domain(v: z3.ExprRef, t: ast.SeqType | ast.SetType, ranges: Ranges, path: str) -> list[z3.BoolRef]:
     """A sequence's or set's elements in their type's domain (a quantified constraint); a range
     on the sequence's own path bounds its length."""
@@ -193,6 +197,14 @@ def _container_domain(v: z3.ExprRef, t: ast.SeqType | ast.SetType, ranges: Range
         r = ranges.by_path.get(path)
         if r is not None:
             cs += [z3.Length(v) >= _const(r.low, z3.IntSort()), z3.Length(v) <= _const(r.high, z3.IntSort())]
+        if r is not None and r.high < UNROLLED_LENGTH:
+            # A short sequence's items one by one: no quantifier, which under the universal of a
+            # refusal ("no value of d is accepted") left Z3 without an answer at depth 1.
+            for k in range(max(0, math.floor(r.high)) + 1):
+                inner = domain(unpack(v[k], t.element), t.element, ranges, f"{path}[]")
+                if inner:
+                    cs.append(z3.Implies(z3.Length(v) > k, z3.And(inner)))
+            return cs
         i = z3.Int(f"{path}!i")
         inner = domain(unpack(v[i], t.element), t.element, ranges, f"{path}[]")
         if inner:
