@@ -186,3 +186,63 @@ def test_a_refusal_of_an_input_sequence_of_bounded_length_is_decided(tmp_path: P
         assert [(r.assertion, r.verdict) for r in results] == [("U1", Verdict.VIOLATED), ("A2", Verdict.HOLDS)]
     shown = [s.event for s in symbolic[0].trace if s.kind != "internal"]
     assert len(shown) == 2 and shown[0].startswith("M::a.in.") and shown[1] == "M::terminate"
+
+
+GIVEN_SETS = """\
+import set_toolkit::*
+type ID
+function pick(k : nat) : ID { }
+stm M {
+  event e : ID
+  event n : nat
+  var s : Set(ID) = {}
+  var y : ID
+  initial i
+  state S { }
+  transition t0 { from i to S }
+  transition t1 { from S to S trigger e?y action s = union(s, {y}) ; n!size(s) }
+}
+stm P {
+  event f : nat
+  event n : nat
+  var s : Set(ID) = {}
+  var k : nat = 0
+  initial i
+  state S { }
+  transition t0 { from i to S }
+  transition t1 { from S to S trigger f?k action s = {pick(k)} ; n!size(s) }
+}
+"""
+GIVEN_SPECS = """\
+timed csp Specs csp-begin
+Timed(OneStep) {
+  NoThree = CHAOS(diff(Events, {M::n.out.3}))
+  NoTwo = CHAOS(diff(Events, {M::n.out.2}))
+  NeverEmpty = CHAOS(diff(Events, {P::n.out.0}))
+}
+csp-end
+timed assertion A3: M refines NoThree in the traces model.
+timed assertion A2: M refines NoTwo in the traces model.
+timed assertion P0: P refines NeverEmpty in the traces model.
+"""
+
+
+def test_the_size_of_a_set_of_a_given_type_counts_its_range(tmp_path: Path) -> None:
+    """A given type's range is the type (RoboTool's `nametype ID = {0..1}`), so a set of ID has at
+    most two members: by hand, M outputs sizes 1 and 2 and never 3.  A path's range narrows the type's
+    (`M::e=1..3` leaves only 1: size 2 is never reached), in both engines.  A function's result is a
+    value of its type within that range, so `{pick(k)}` is never empty (BMC; the interpreter cannot
+    run `pick`).  Without a range for ID the size is unsupported, with the range to give."""
+    project = load(write_files(tmp_path, {"m.rct": GIVEN_SETS, "m.assertions": GIVEN_SPECS}))
+    scope = {"ID": Range(Fraction(0), Fraction(1)), "core_nat": Range(Fraction(0), Fraction(4))}
+    narrowed = {"M::e": Range(Fraction(1), Fraction(3))}
+    for paths, expected in (({}, ["holds", "violated"]), (narrowed, ["holds", "holds"])):
+        ranges = Ranges(scope, paths)
+        symbolic = check(project, ["A3", "A2"], bound=12, ranges=ranges)
+        concrete = check_explicit(project, ["A3", "A2"], 12, ranges, {}, 60)
+        for results in (symbolic, concrete):
+            assert [r.verdict.value for r in results] == expected, paths
+    [p0] = check(project, ["P0"], bound=12, ranges=Ranges(scope))
+    assert p0.verdict == Verdict.HOLDS
+    [a2] = check(project, ["A2"], bound=12, ranges=Ranges({"core_nat": Range(Fraction(0), Fraction(4))}))
+    assert a2.verdict == Verdict.UNSUPPORTED and "--range ID=LO..HI" in (a2.reason or "")

@@ -16,7 +16,7 @@ import z3
 from tockbmc.encodings.automaton import entry_clock
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
-from tockbmc.model.ranges import TYPE_RANGE_NAMES, Range, Ranges
+from tockbmc.model.ranges import TYPE_RANGE_NAMES, Range, Ranges, is_path
 
 __all__ = ["TYPE_RANGE_NAMES", "Range", "Ranges", "Value"]  # the ranges are the model layer's; re-exported
 
@@ -174,11 +174,25 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
     for bounded in (path, name):
         if bounded in ranges.parametric:
             low, high = range_bounds(bounded, v.sort())
-            return [*cs, v >= low, v <= high]
-        r = ranges.by_path.get(path) if bounded == path else ranges.by_type.get(name)
-        if r is not None:
-            return [*cs, v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+            cs += [v >= low, v <= high]
+        else:
+            r = ranges.by_path.get(path) if bounded == path else ranges.by_type.get(name)
+            if r is None:
+                continue
+            cs += [v >= _const(r.low, v.sort()), v <= _const(r.high, v.sort())]
+        if not isinstance(t, ast.GivenType):
+            return cs  # a path's range replaces its type's
+        # A given type's range is the type (RoboTool's `nametype T = {0..2}`): a path's range
+        # narrows it, and every value of the type is in it (`given_set_size` counts on it).
     return cs
+
+
+def given_types(ranges: Ranges) -> Ranges:
+    """The ranges of given types alone (`type T`): what bounds a function's result, which is a value
+    of its type (a number's result is any number: only the environment's choices are bounded)."""
+    core = set(TYPE_RANGE_NAMES.values())
+    return Ranges({k: r for k, r in ranges.by_type.items() if k not in core},
+                  parametric=tuple(k for k in ranges.parametric if k not in core and not is_path(k)))
 
 
 def range_bounds(name: str, sort: z3.SortRef) -> tuple[z3.ArithRef, z3.ArithRef]:
@@ -314,6 +328,9 @@ class Evaluator:
             self.side.append(axiom)
             return r
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
+            if isinstance(e, ast.Builtin) and e.op == "size" and isinstance(e.args[0].type, ast.SetType) \
+                    and isinstance(e.args[0].type.element, ast.GivenType):
+                return given_set_size(e, e.args[0].type.element, operands[0], self.ranges)  # type: ignore[arg-type]
             return _collection(e, operands)
         if isinstance(e, ast.Let):
             [bound] = operands
@@ -354,7 +371,7 @@ class Evaluator:
             anything = z3.Function(f"{f.qname}.outside", *sorts, sort_of(f.result))
             args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
             pre = z3.And([inner.scalar(c) for c in f.preconditions])
-            self.side += domain(anything(*args), f.result, Ranges(), f.qname)  # any value, but of its type
+            self.side += domain(anything(*args), f.result, given_types(self.ranges), f.qname)  # any value of its type
             return z3.If(pre, defined, anything(*args))
         # Uninterpreted: any function meeting its pre/postconditions (records and tuples passed
         # and returned in their datatype).
@@ -364,7 +381,7 @@ class Evaluator:
         packed = fn(*args)
         # Whatever the function, its result is a value of its type: a natural is not negative, an
         # enumeration's value one of its literals (without this, a call could answer 31 for a Status).
-        self.side += domain(unpack(packed, f.result), f.result, Ranges(), f.qname)
+        self.side += domain(unpack(packed, f.result), f.result, given_types(self.ranges), f.qname)
         if parts(f.result):
             if f.postconditions:
                 raise Unsupported(e.pos, "postconditions of functions returning records or tuples are not encoded yet")
@@ -521,6 +538,26 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
     return _builtin(e, operands)
 
 
+GIVEN_SIZE_CAP = 64  # a set of a given type is counted over at most this many values
+
+
+def given_set_size(e: ast.Builtin, t: ast.GivenType, a: z3.ExprRef, ranges: Ranges) -> z3.ArithRef:
+    """The size of a set of a given type whose range is known here: each of the range's values
+    counted when it is a member.  Exact, since a given type has no arithmetic and every value of it
+    is within its range (`domain`: inputs, variables and constants the environment chooses, and the
+    results of functions); without a range, or with one that is a parameter, the values are not
+    known and the size is `unsupported`."""
+    r = ranges.by_type.get(t.name)
+    if t.name in ranges.parametric or r is None:
+        raise Unsupported(e.pos, f"the size of a set of {t.name} without a range for {t.name} (Z3's sets have no "
+                                 f"cardinality; with --range {t.name}=LO..HI, or RoboTool's nametype, the set's "
+                                 "members are counted over the range)")
+    low, high = math.ceil(r.low), math.floor(r.high)
+    if high - low + 1 > GIVEN_SIZE_CAP:
+        raise Unsupported(e.pos, f"the size of a set of {t.name}, whose range {r} has more than {GIVEN_SIZE_CAP} values")
+    return z3.Sum([z3.If(z3.IsMember(z3.IntVal(v), a), 1, 0) for v in range(low, high + 1)] or [z3.IntVal(0)])
+
+
 def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     op, args = e.op, e.args
     xs: list[z3.ExprRef] = []
@@ -610,9 +647,9 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
 
 def _set_size(e: ast.Builtin, st: ast.SetType, a: z3.ExprRef) -> z3.ArithRef:
     """The size of a set whose element type has finitely many values, known here: an
-    enumeration's literals or the two booleans, each counted when it is a member.  Z3's sets have
-    no cardinality, so a set of numbers (or of a given type, whose values a function may make
-    anywhere) is `unsupported`."""
+    enumeration's literals or the two booleans, each counted when it is a member (a given type's
+    range: `given_set_size`).  Z3's sets have no cardinality, and arithmetic takes numbers out of
+    any range, so a set of numbers is `unsupported`."""
     t = st.element
     if isinstance(t, ast.EnumType):
         values: list[z3.ExprRef] = [z3.IntVal(i) for i in range(len(t.literals))]
