@@ -437,6 +437,40 @@ assertion AH: N refines SpecH in the traces model.
     expect(rs["AH"], "violated", ["N::e.out.0", "N::e.out.1"])
 
 
+def test_robotool_instantiation_names_in_a_specification(tmp_path) -> None:
+    """What a specification reads from RoboTool's generated instantiation (SRangerRC2RS writes
+    `WAIT(MinusNoNeg(Div(PI, av, core_nat), 2, core_nat))`): a `nametype` is a name for its set,
+    `member(x, S)` is CSPm's, and the generated `Plus(e1,e2,T) = if member(e1+e2,T) then e1+e2
+    else e1` is read as RoboTool's helper (exact, T unread: DESIGN.md, "CSP blocks"), while a
+    function of the user's own there is evaluated as written.
+
+    By hand: Twice(x) = Plus(x, x, core_nat) is exact, so Twice(2) = 4 although 4 is not in
+    core_nat = {0..3}; Capped(x) = if member(x, core_nat) then x else 0 gives Capped(1) = 1 and
+    Capped(7) = 0.  N's trace is e.out.0, e.out.1, e.out.2 (as in the guard's test), so
+    S = e.out!Capped(7) -> e.out!Capped(1) -> e.out!Minus(Twice(2), 2, core_nat) -> ... holds,
+    and T, expecting e.out.4 third (Twice(2) itself), is violated there."""
+    text = """
+timed csp Instantiations csp-begin
+nametype core_nat = {0..3}
+Plus(e1,e2,T) = if member(e1+e2,T) then e1+e2 else e1
+Minus(e1,e2,T) = if member(e1-e2,T) then e1-e2 else e1
+Twice(x) = Plus(x, x, core_nat)
+Capped(x) = if member(x, core_nat) then x else 0
+csp-end
+timed csp Specs csp-begin
+Timed(OneStep) {
+  S = N::e.out!Capped(7) -> N::e.out!Capped(1) -> N::e.out!Minus(Twice(2), 2, core_nat) -> STOP
+  T = N::e.out!Capped(7) -> N::e.out!Capped(1) -> N::e.out!Twice(2) -> STOP
+}
+csp-end
+assertion AS: N refines S in the traces model.
+assertion AT: N refines T in the traces model.
+"""
+    rs = run(tmp_path, COUNTER, text)
+    expect(rs["AS"], "holds")
+    expect(rs["AT"], "violated", ["N::e.out.0", "N::e.out.1", "N::e.out.2"])
+
+
 def test_if_then_else_with_definition_parameter(tmp_path) -> None:
     """§4 `if b then P else Q` with `N(x) = …`. N: e.out.0, e.out.1, e.out.2, then tocks.
 

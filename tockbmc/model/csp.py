@@ -89,6 +89,8 @@ def parse_block(block: ast.CspBlock) -> tuple[Definition, ...]:
             out += [definition(block, d, True) for d in item.children[1:] if isinstance(d, Tree)]
         elif item.data == "definition":
             out.append(definition(block, item, False))
+        elif item.data == "nametype":  # `nametype core_nat = {0..3}`: a name for a set of values
+            out.append(definition(block, item, False))
     return tuple(out)
 
 

@@ -37,7 +37,8 @@ UNSUPPORTED_DECLARATIONS = {
 TOOLKITS = {"relation_toolkit", "sequence_toolkit", "set_toolkit", "function_toolkit", "collection_toolkit",
             "arith_toolkit", "number_toolkit", "core"}
 
-_CSP_DEFINITION = re.compile(r"(?:^|\{)[ \t]*([A-Za-z_][A-Za-z0-9_']*)[ \t]*(\([^)\n]*\))?[ \t]*=(?!=)", re.M)
+_CSP_DEFINITION = re.compile(r"(?:^|\{)[ \t]*(?:nametype[ \t]+)?([A-Za-z_][A-Za-z0-9_']*)[ \t]*(\([^)\n]*\))?[ \t]*=(?!=)",
+                             re.M)
 
 
 def children(tree: Tree, data: str) -> list[Tree]:

@@ -455,7 +455,11 @@ class Evaluator:
             return ModelProcess(name[:-5], tuple(self.eval(a, env) for a in args_t), t)
         found = env.lookup(name)
         top = self.lookup_top(name) if found is None else None
-        if found is None and top is None and name in _BOUNDED_ARITHMETIC and len(args_t) == _BOUNDED_ARITHMETIC[name] + 1:
+        # RoboTool's helpers, also where its generated instantiation defines them (`Plus(e1,e2,T) = if
+        # member(e1+e2,T) then e1+e2 else e1` in a block named Instantiations): exact, as below.
+        generated = top is not None and top.block.name == "Instantiations"
+        if found is None and (top is None or generated) and name in _BOUNDED_ARITHMETIC \
+                and len(args_t) == _BOUNDED_ARITHMETIC[name] + 1:
             return self.bounded_arithmetic(t, name, args_t[:-1], env)
         args = tuple(self.eval(a, env) for a in args_t)
         if found is not None and found[0] == "def":
@@ -715,8 +719,19 @@ _BUILTINS: dict[str, Callable[..., object]] = {
     "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
     "EndBy": _endby, "Deadline": _endby, "StartBy": _startby, "wait": _wait, "timed_priority": lambda timed, p: p,
     "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
-    "Union": _distributed("union"), "Inter": _distributed("inter"),
+    "Union": _distributed("union"), "Inter": _distributed("inter"), "member": lambda timed, x, s: _member(x, s),
 }
+
+
+def _member(x: object, s: object) -> bool:
+    """CSPm's `member(x, S)`: an event of an event set, or a value of a set of values."""
+    if isinstance(s, EventSet):
+        if not isinstance(x, tuple):
+            raise TypeError("member: an event set holds events")
+        return s.contains(x)
+    if not isinstance(s, frozenset):
+        raise TypeError("member: the second argument is a set")
+    return x in s
 
 
 # ---------------------------------------------------------------- operational semantics
