@@ -330,3 +330,39 @@ def test_suffix_infix_and_symmetric_difference(tmp_path: Path) -> None:
                                                    for n, s in enumerate(("Good", "Bad", "Odd", "Empty"), 1)))
     assert _both(project, ["R1", "R2", "R3", "R4"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED,
                                                         "R3": Verdict.HOLDS, "R4": Verdict.VIOLATED}
+
+
+RECORD_CONDITIONS = """\
+datatype R { w : nat  h : nat }
+function area(r : R) : nat {
+  precondition r.w > 0
+  postcondition result == r.w * r.h
+}
+function bigger(r : R) : nat {
+  precondition r.w > 0
+  postcondition result > r.h
+}
+stm M {
+  event out : nat
+  var r : R = R (| w = 2, h = 3 |)
+  var a : nat = 0
+  var b : nat = 0
+  initial i
+  state S { }
+  state Small { }
+  transition t0 { from i to S action a = area(r) ; b = bigger(r) }
+  transition t1 { from S to Small condition a != 6 \\/ b <= 3 }
+}
+"""
+
+
+def test_a_function_whose_conditions_read_a_record_parameter(tmp_path: Path) -> None:
+    """Laptop-refurbishing's `checkImage(image : ImageData, …)` has the precondition
+    `size(image.pixels) == image.height`: BMC passed the record to the conditions in its datatype,
+    where `image.pixels` failed (AssertionError, exit 1).  By hand: r = (w=2, h=3) meets both
+    preconditions, so area(r) = 6 and bigger(r) > 3, and Small is never reached (BMC; the
+    interpreter cannot run `bigger`, which has no body)."""
+    (tmp_path / "m.rct").write_text(RECORD_CONDITIONS)
+    (tmp_path / "m.assertions").write_text("assertion A: Small is not reachable in M.\n")
+    [r] = check(load(tmp_path), bound=8)
+    assert r.verdict == Verdict.HOLDS, r.reason

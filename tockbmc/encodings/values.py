@@ -369,16 +369,15 @@ class Evaluator:
                 raise Unsupported(e.pos, "functions over records with preconditions are not encoded yet")
             sorts = [sort_of(p.type) for p in f.parameters]
             anything = z3.Function(f"{f.qname}.outside", *sorts, sort_of(f.result))
-            args = [_to_real(a) if s == z3.RealSort() else a for a, s in zip(args, sorts)]  # type: ignore[arg-type]
+            points = [pack(a, p.type) for a, p in zip(args, f.parameters)]
             pre = z3.And([inner.scalar(c) for c in f.preconditions])
-            self.side += domain(anything(*args), f.result, given_types(self.ranges), f.qname)  # any value of its type
-            return z3.If(pre, defined, anything(*args))
+            self.side += domain(anything(*points), f.result, given_types(self.ranges), f.qname)  # any value of its type
+            return z3.If(pre, defined, anything(*points))
         # Uninterpreted: any function meeting its pre/postconditions (records and tuples passed
         # and returned in their datatype).
         sorts = [sort_of(p.type) for p in f.parameters]
         fn = z3.Function(f.qname, *sorts, sort_of(f.result))
-        args = [pack(a, p.type) for a, p in zip(args, f.parameters)]
-        packed = fn(*args)
+        packed = fn(*[pack(a, p.type) for a, p in zip(args, f.parameters)])
         # Whatever the function, its result is a value of its type: a natural is not negative, an
         # enumeration's value one of its literals (without this, a call could answer 31 for a Status).
         self.side += domain(unpack(packed, f.result), f.result, given_types(self.ranges), f.qname)
@@ -388,6 +387,7 @@ class Evaluator:
             return unpack(packed, f.result)
         result = packed
         # The axiom `pre => post`, instantiated at this call: exact, since only called points matter.
+        # The conditions read the arguments as values (a record's fields by name), not packed.
         ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side, ranges=self.ranges)
         pre = [ev.scalar(c) for c in f.preconditions]
         post = [_with_result(ev, c, result) for c in f.postconditions]
