@@ -1,6 +1,6 @@
 """Load and check every project of the public RoboChart projects (`../shared/realworld/PROJECTS.txt`).
 
-Run: python benchmarks/realworld.py [--bound 40] [--timeout 60] [--budget 300] [--only TEXT]
+Run: python benchmarks/realworld.py [--bound 40] [--timeout 60] [--budget 300] [--only TEXT] [--core]
 
 Each line of PROJECTS.txt is a project: a folder and options (`exclude=`, `only=`, `include=`,
 `generated`, `expect=`; the folder's README.md explains them).  Each project is loaded and its
@@ -9,7 +9,9 @@ instantiation (as benchmarks/conformance.py does), each assertion with `--timeou
 the project with `--budget` seconds in all (assertions past it are counted `skipped`).  Printed:
 per project, whether it loaded (else its first errors) and its verdict counts; in total, the
 counts, the commonest load errors and unsupported reasons, and every verdict that contradicts an
-`expect=` entry (a verdict its authors recorded with RoboTool/FDR).
+`expect=` entry (a verdict its authors recorded with RoboTool/FDR).  With `--core`, a project
+without assertions is checked for RoboTool's core assertions of each of its elements, as `tockbmc
+check` does; an internal error in a check is printed (`CRASH`) and counted, and the run goes on.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from pathlib import Path
 import tockbmc
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.model.config import ROBOTOOL_RANGES, configure
+from tockbmc.model.core import core_assertions
 from tockbmc.model.loader import SUFFIXES
 from tockbmc.model.result import Verdict
 from tockbmc.parallel import InProcess, Job
@@ -113,6 +116,8 @@ def main() -> None:
     parser.add_argument("--only", default="", help="check only the project lines containing this text")
     parser.add_argument("--load-only", action="store_true", help="load the projects, check nothing")
     parser.add_argument("--top", type=int, default=12, help="how many reasons to list")
+    parser.add_argument("--core", action="store_true",
+                        help="check RoboTool's core assertions of a project that has none, as `tockbmc check` does")
     args = parser.parse_args()
     totals: collections.Counter[str] = collections.Counter()
     load_reasons: collections.Counter[str] = collections.Counter()
@@ -137,6 +142,8 @@ def main() -> None:
         totals["loaded"] += 1
         project = dataclasses.replace(project, root=str(args.corpus / line.folder))
         counts: collections.Counter[str] = collections.Counter()
+        if args.core and not project.assertions:
+            project = dataclasses.replace(project, assertions=core_assertions(project))
         if not args.load_only and project.assertions:
             job = Job(configure(project, default_ranges=ROBOTOOL_RANGES), args.bound, args.timeout)
             began = time.perf_counter()
@@ -146,7 +153,12 @@ def main() -> None:
                     counts["skipped"] += 1
                     continue
                 job = dataclasses.replace(job, timeout=min(args.timeout, left))
-                _, r = next(iter(InProcess([(job, i)])))
+                try:
+                    _, r = next(iter(InProcess([(job, i)])))
+                except Exception as exc:  # an internal error is a finding: shown, and the run goes on
+                    counts["crashed"] += 1
+                    print(f"    CRASH {project.assertions[i].name}: {type(exc).__name__}: {exc}", flush=True)
+                    continue
                 counts[r.verdict.value] += 1
                 if r.verdict == Verdict.UNSUPPORTED:
                     unsupported[reason_kind(r.reason or "")] += 1
@@ -161,7 +173,7 @@ def main() -> None:
     print()
     print("total: " + ", ".join(f"{k} {totals[k]}" for k in
                                 ("projects", "loaded", "not loaded", "holds", "violated", "unknown", "unsupported",
-                                 "skipped", "expect met", "expect not met")),
+                                 "skipped", "crashed", "expect met", "expect not met")),
           f"({time.perf_counter() - start:.0f} s)")
     print("commonest load errors (projects):")
     for kind, n in load_reasons.most_common(args.top):

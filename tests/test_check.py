@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from conftest import SHARED
 
 import tockbmc
 from tockbmc.check import check
@@ -148,3 +149,22 @@ def test_input_fields_the_violation_does_not_need_are_marked() -> None:
     assert move["source"].endswith("intelliwelder.rct:243:3") or ":243:" in move["source"]
     assert "(dist: any value)" in CliRunner().invoke(cli, ["check", str(EXAMPLE), "-a", "A1", "--range",
                                                            "core_int=-1..1", "--range", "core_real=-1..1"]).output
+
+
+def test_a_counterexample_in_a_module_starts_from_the_values_bmc_chose() -> None:
+    """robocert-evaluation's Foraging (a module of two controllers, machines with variables
+    without initial values): BMC's timelock of `Foraging is timelock-free` under RoboTool's ranges
+    was named `ForagingC::DTP.source` and so on, which the interpreter did not find under its own
+    names for them (`ForagingC.DTP`); it tried every start (234,375 of them), gave up past its
+    limit and reported a failure to follow (exit 1).  The counterexample is now replayed from the
+    one start BMC chose.  (Both engines find the timelock: DTP's `during Explore()` calls an
+    operation, which is urgent, while PositionEstimation waits.)"""
+    import dataclasses
+
+    from tockbmc.model.config import ROBOTOOL_RANGES, configure
+    from tockbmc.model.core import core_assertions
+    project = tockbmc.load(SHARED / "realworld" / "UoY-RoboStar+robocert-evaluation" / "foraging")
+    project = dataclasses.replace(project, assertions=core_assertions(project))
+    config = configure(project, default_ranges=ROBOTOOL_RANGES)
+    [r] = check(config.project, ["Foraging_timelock_free"], bound=40, config=config, timeout=60)
+    assert r.verdict == "violated" and r.extra.get("replayed") == "yes", r.reason

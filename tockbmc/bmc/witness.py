@@ -154,9 +154,17 @@ def initial_choices(u: Unroller, model: z3.ModelRef) -> dict[str, object]:
                 out[declaration_key(v)] = python_value(value, model, v.type)
                 if comp.instance and system.shared_key(c, v) is None:
                     out[instance_key(comp.instance, v)] = out[declaration_key(v)]  # this instance's own
-    for base, (t, initial, _c, _key) in system.initial.items():
+    for base, (t, initial, c, key) in system.initial.items():
         if initial is None:
             out[base] = python_value(u.value_at(system.value(base, t), 0), model, t)
+            # Also under the names the interpreter looks a variable up by: the instance's own key
+            # (a machine inside a module's controller is `ForagingC::DTP` here, `ForagingC.DTP`
+            # there), and the declaration's.  Unpinned, the interpreter tries every value of each
+            # (234,375 starts for robocert-evaluation's Foraging, past the replay's limit).
+            instance = system.components[c].instance
+            if instance:
+                out.setdefault(f"{'::'.join(instance)}/{key}", out[base])
+            out.setdefault(key, out[base])
     return out
 
 

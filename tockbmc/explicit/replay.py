@@ -75,7 +75,7 @@ def replay_watched(interp: Interpreter, trace: tuple[TraceStep, ...], choices: d
         if (c, 0, start) not in seen:
             seen.add((c, 0, start))
             todo.append((c, 0, start))
-    best, offered = 0, set[str]()
+    best, offered, gave_up = 0, set[str](), False
     while todo:
         config, i, watched = todo.popleft()
         expected = visible[i] if i < len(visible) else None
@@ -104,14 +104,16 @@ def replay_watched(interp: Interpreter, trace: tuple[TraceStep, ...], choices: d
                 continue
             if nxt not in seen:
                 if len(seen) >= LIMIT:
+                    gave_up = True
                     break
                 seen.add(nxt)
                 todo.append(nxt)
+    short = f" (the replay gave up after {LIMIT:,} configurations)" if gave_up else ""
     if best < len(visible):
         step = visible[best]
-        raise ReplayFailure(step.step, f"{step.event}", ", ".join(sorted(offered)[:8]) or "nothing")
+        raise ReplayFailure(step.step, f"{step.event}", (", ".join(sorted(offered)[:8]) or "nothing") + short)
     raise ReplayFailure(visible[-1].step if visible else 0, "the end of its trace, where the assertion fails",
-                        "every step of the trace, but the assertion does not fail where it ends")
+                        "every step of the trace, but the assertion does not fail where it ends" + short)
 
 
 _OUTSIDE = ("before the model starts", "after the model terminates")
