@@ -471,6 +471,27 @@ assertion AT: N refines T in the traces model.
     expect(rs["AT"], "violated", ["N::e.out.0", "N::e.out.1", "N::e.out.2"])
 
 
+def test_a_channel_of_the_specifications_own(tmp_path) -> None:
+    """`channel h` declares an event of the specification's own (test1 hides its `int__`). Hidden, it
+    is an internal step of the specification: S = (h -> e.out.0 -> e.out.1 -> e.out.2 -> STOP) \\ {|h|}
+    has N's trace, so N refines S. Not hidden, T = h -> e.out.0 -> STOP starts with h, which N never
+    does: N's first event e.out.0 is the counterexample."""
+    text = """
+timed csp Specs csp-begin
+channel h, unused
+Timed(OneStep) {
+  S = (h -> N::e.out.0 -> N::e.out.1 -> N::e.out.2 -> STOP) \\ {|h|}
+  T = h -> N::e.out.0 -> STOP
+}
+csp-end
+assertion AS: N refines S in the traces model.
+assertion AT: N refines T in the traces model.
+"""
+    rs = run(tmp_path, COUNTER, text)
+    expect(rs["AS"], "holds")
+    expect(rs["AT"], "violated", ["N::e.out.0"])
+
+
 def test_if_then_else_with_definition_parameter(tmp_path) -> None:
     """§4 `if b then P else Q` with `N(x) = …`. N: e.out.0, e.out.1, e.out.2, then tocks.
 

@@ -91,6 +91,9 @@ def parse_block(block: ast.CspBlock) -> tuple[Definition, ...]:
             out.append(definition(block, item, False))
         elif item.data == "nametype":  # `nametype core_nat = {0..3}`: a name for a set of values
             out.append(definition(block, item, False))
+        elif item.data == "channels":  # `channel int__`: events of the specification's own, without values
+            out += [Definition(str(n), (), Tree("channel_event", [n]), False, pos_of(block, n), block)
+                    for n in item.children]
     return tuple(out)
 
 

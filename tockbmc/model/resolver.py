@@ -37,6 +37,8 @@ UNSUPPORTED_DECLARATIONS = {
 TOOLKITS = {"relation_toolkit", "sequence_toolkit", "set_toolkit", "function_toolkit", "collection_toolkit",
             "arith_toolkit", "number_toolkit", "core"}
 
+_CSP_CHANNELS = re.compile(r"^[ \t]*channel[ \t]+([A-Za-z_][A-Za-z0-9_']*(?:[ \t]*,[ \t]*[A-Za-z_][A-Za-z0-9_']*)*)[ \t]*$",
+                           re.M)  # `channel a, b` without a type: the specification's own events
 _CSP_DEFINITION = re.compile(r"(?:^|\{)[ \t]*(?:nametype[ \t]+)?([A-Za-z_][A-Za-z0-9_']*)[ \t]*(\([^)\n]*\))?[ \t]*=(?!=)",
                              re.M)
 
@@ -904,7 +906,8 @@ class Resolver:
                 start = (c.line or 1, (c.column or 1) + len("csp-begin"))
             elif isinstance(c, Token) and c.type == "ID":
                 name = str(c)
-        defines = tuple(dict.fromkeys(m.group(1) for m in _CSP_DEFINITION.finditer(code)))
+        declared = [n.strip() for m in _CSP_CHANNELS.finditer(code) for n in m.group(1).split(",")]
+        defines = tuple(dict.fromkeys([*(m.group(1) for m in _CSP_DEFINITION.finditer(code)), *declared]))
         return ast.CspBlock(name, timing, associated, code, pos_of(path, tree), defines, *start)
 
     def element_names(self) -> list[str]:

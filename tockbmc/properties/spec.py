@@ -339,6 +339,8 @@ class Evaluator:
             return (*head, self.field(c[1], env))
         if k == "comm":
             return self.pattern(t, env)
+        if k == "channel_event":  # a channel the block declares, without values: its one event
+            return (str(c[0]),)
         if k in ("or_", "and_"):
             first = self.boolean(c[0], env)
             if k == "or_" and first or k == "and_" and not first:
