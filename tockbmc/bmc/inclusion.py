@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TypeVar
 
 import z3
 
@@ -162,25 +163,37 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
         return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to refuse everything else in a stable configuration "
                                           f"({why})", steps)
 
-    # The refusals after one trace are searched together, on one unrolling (`bmc_each`); one not
-    # found so is searched on its own at once, where k-induction may show that none is reachable.
     by_trace: dict[tuple, list[SpecRefusal]] = {}
     for r in wanted:
         by_trace.setdefault(tuple(r.events), []).append(r)
-    for events, group in by_trace.items():
-        shared = ([False] * len(group) if spent(timeout) else
-                  bmc_each(_following(make, SpecTrace(events, False)), [target_for(r) for r in group], bound,
-                           timeout()))
-        for r, ok in zip(group, shared, strict=True):
-            failed = None if ok else settle(r)
-            if failed is not None:
-                return failed
+    failed = _first_failure([(partial(_following, make, SpecTrace(events, False)), group, [target_for(r) for r in group])
+                             for events, group in by_trace.items()], settle, bound, timeout)
+    if failed is not None:
+        return failed
     return Inclusion(Verdict.HOLDS, f"every trace of {spec_name} with up to {length} events is a trace of {element}, "
                                     f"and each of its {len(wanted)} stable refusals after them one of {element}'s "
                                     f"({len(traces)} traces listed, each within {bound} steps)")
 
 
 REFUSALS_CAP = 256
+
+C = TypeVar("C")
+
+
+def _first_failure(groups: list[tuple[Callable[[], TransitionSystem], list[C], list[Target]]],
+                   settle: Callable[[C], Inclusion | None], bound: int,
+                   timeout: Callable[[], float | None]) -> Inclusion | None:
+    """The checks of one group (the refusals after one trace, the checks of one observation) are
+    searched together on one unrolling of its system (`bmc_each`, built only while time is left);
+    a check not made there is settled on its own at once (`settle`: k-induction may show that it
+    cannot be made), and the first that fails ends the search, before the groups after it."""
+    for system, members, targets in groups:
+        shared = [False] * len(members) if spent(timeout) else bmc_each(system(), targets, bound, timeout())
+        for m, ok in zip(members, shared, strict=True):
+            failed = None if ok else settle(m)
+            if failed is not None:
+                return failed
+    return None
 
 
 def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: str, length: int, bound: int,
@@ -224,20 +237,14 @@ def _observations(make: Make, sem: Semantics, spec: Proc, spec_name: str, elemen
         why = outcome.reason if outcome.status == Status.UNKNOWN else f"not within {bound} steps"
         return Inclusion(Verdict.UNKNOWN, f"{what} was not shown to make it ({why})", steps, seen)
 
-    # The checks of one observation are searched together on one unrolling (`bmc_each`); one not
-    # made so is searched on its own at once (the first that cannot be made ends the check, before
-    # the observations after it are searched), where k-induction may show that it cannot be.
     groups: dict[tuple[int, bool], list[int]] = {}
     for n, (o, r) in enumerate(checks):
         groups.setdefault((id(o), o.ticks and o.maximal and r is None), []).append(n)
-    for (_o, ticks), members in groups.items():
-        o = checks[members[0]][0]
-        shared = ([False] * len(members) if spent(timeout) else
-                  bmc_each(system_for(o, ticks), [target_for(checks[n][1]) for n in members], bound, timeout()))
-        for n, ok in zip(members, shared, strict=True):
-            failed = None if ok else settle(n)
-            if failed is not None:
-                return failed
+    failed = _first_failure([(partial(system_for, checks[members[0]][0], ticks), members,
+                              [target_for(checks[n][1]) for n in members])
+                             for (_o, ticks), members in groups.items()], settle, bound, timeout)
+    if failed is not None:
+        return failed
     return Inclusion(Verdict.HOLDS, f"every tick-tock observation of {spec_name} with up to {length} events is one of "
                                     f"{element}'s: {sum(1 for o in observations if o.maximal)} observations listed, "
                                     f"each with the refusals before its tocks, and {len(checks)} checks in all, each "

@@ -183,7 +183,7 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
         if not isinstance(t, ast.GivenType):
             return cs  # a path's range replaces its type's
         # A given type's range is the type (RoboTool's `nametype T = {0..2}`): a path's range
-        # narrows it, and every value of the type is in it (`given_set_size` counts on it).
+        # narrows it, and every value of the type is in it (`_set_size` counts on it).
     return cs
 
 
@@ -327,10 +327,11 @@ class Evaluator:
             r, axiom = _extremum(e, a)
             self.side.append(axiom)
             return r
+        if isinstance(e, ast.Builtin) and e.op == "size" and isinstance(e.args[0].type, ast.SetType):
+            [a] = operands
+            assert not isinstance(a, dict)
+            return _set_size(e, e.args[0].type, a, self.ranges)
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
-            if isinstance(e, ast.Builtin) and e.op == "size" and isinstance(e.args[0].type, ast.SetType) \
-                    and isinstance(e.args[0].type.element, ast.GivenType):
-                return given_set_size(e, e.args[0].type.element, operands[0], self.ranges)  # type: ignore[arg-type]
             return _collection(e, operands)
         if isinstance(e, ast.Let):
             [bound] = operands
@@ -538,26 +539,6 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
     return _builtin(e, operands)
 
 
-GIVEN_SIZE_CAP = 64  # a set of a given type is counted over at most this many values
-
-
-def given_set_size(e: ast.Builtin, t: ast.GivenType, a: z3.ExprRef, ranges: Ranges) -> z3.ArithRef:
-    """The size of a set of a given type whose range is known here: each of the range's values
-    counted when it is a member.  Exact, since a given type has no arithmetic and every value of it
-    is within its range (`domain`: inputs, variables and constants the environment chooses, and the
-    results of functions); without a range, or with one that is a parameter, the values are not
-    known and the size is `unsupported`."""
-    r = ranges.by_type.get(t.name)
-    if t.name in ranges.parametric or r is None:
-        raise Unsupported(e.pos, f"the size of a set of {t.name} without a range for {t.name} (Z3's sets have no "
-                                 f"cardinality; with --range {t.name}=LO..HI, or RoboTool's nametype, the set's "
-                                 "members are counted over the range)")
-    low, high = math.ceil(r.low), math.floor(r.high)
-    if high - low + 1 > GIVEN_SIZE_CAP:
-        raise Unsupported(e.pos, f"the size of a set of {t.name}, whose range {r} has more than {GIVEN_SIZE_CAP} values")
-    return z3.Sum([z3.If(z3.IsMember(z3.IntVal(v), a), 1, 0) for v in range(low, high + 1)] or [z3.IntVal(0)])
-
-
 def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     op, args = e.op, e.args
     xs: list[z3.ExprRef] = []
@@ -594,9 +575,7 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         replaced = z3.Concat(z3.SubSeq(a, 0, i - 1), z3.Unit(item), z3.SubSeq(a, i, n - i))
         outside = z3.Function("update.outside", a.sort(), z3.IntSort(), item.sort(), a.sort())
         return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
-    if op == "size":
-        if isinstance(st, ast.SetType):
-            return _set_size(e, st, a)
+    if op == "size":  # of a sequence (a set's: `_set_size`, which needs the ranges)
         return z3.Length(a)
     if op == "isNonEmpty":
         return z3.Length(a) > 0
@@ -645,19 +624,36 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     raise Unsupported(e.pos, f"the operation '{op}' is not encoded yet")
 
 
-def _set_size(e: ast.Builtin, st: ast.SetType, a: z3.ExprRef) -> z3.ArithRef:
-    """The size of a set whose element type has finitely many values, known here: an
-    enumeration's literals or the two booleans, each counted when it is a member (a given type's
-    range: `given_set_size`).  Z3's sets have no cardinality, and arithmetic takes numbers out of
-    any range, so a set of numbers is `unsupported`."""
+GIVEN_SIZE_CAP = 64  # a set of a given type is counted over at most this many values
+
+
+def _set_size(e: ast.Builtin, st: ast.SetType, a: z3.ExprRef, ranges: Ranges) -> z3.ArithRef:
+    """The size of a set whose element type has finitely many values, known here, each counted
+    when it is a member: an enumeration's literals, the two booleans, or a given type's range.  A
+    given type's count is exact since it has no arithmetic and every value of it is within its range
+    (`domain`: inputs, variables and constants the environment chooses, and the results of
+    functions); without a range, or with one that is a parameter, its values are not known.  Z3's
+    sets have no cardinality, and arithmetic takes numbers out of any range, so a set of numbers is
+    `unsupported`."""
     t = st.element
     if isinstance(t, ast.EnumType):
         values: list[z3.ExprRef] = [z3.IntVal(i) for i in range(len(t.literals))]
     elif t == ast.BOOLEAN:
         values = [z3.BoolVal(False), z3.BoolVal(True)]
+    elif isinstance(t, ast.GivenType):
+        r = ranges.by_type.get(t.name)
+        if t.name in ranges.parametric or r is None:
+            raise Unsupported(e.pos, f"the size of a set of {t.name} without a range for {t.name} (Z3's sets have no "
+                                     f"cardinality; with --range {t.name}=LO..HI, or RoboTool's nametype, the set's "
+                                     "members are counted over the range)")
+        low, high = math.ceil(r.low), math.floor(r.high)
+        if high - low + 1 > GIVEN_SIZE_CAP:
+            raise Unsupported(e.pos, f"the size of a set of {t.name}, whose range {r} has more than "
+                                     f"{GIVEN_SIZE_CAP} values")
+        values = [z3.IntVal(v) for v in range(low, high + 1)]
     else:
         raise Unsupported(e.pos, f"the size of a set of {t} (Z3's sets have no cardinality; sets of "
-                                 "enumerations and booleans are counted)")
+                                 "enumerations, booleans and given types with a range are counted)")
     return z3.Sum([z3.If(z3.IsMember(v, a), 1, 0) for v in values]) if values else z3.IntVal(0)
 
 

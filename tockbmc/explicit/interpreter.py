@@ -1202,10 +1202,8 @@ class Interpreter:
         name, tr = self._type_range(t)
         if r is None:
             r = tr
-        elif isinstance(t, ast.GivenType) and self._given_range(t)[1] is not None:
-            own = self._given_range(t)[1]  # a given type's range is the type: a path's range narrows it
-            assert own is not None
-            r = (max(r[0], own[0]), min(r[1], own[1]))
+        elif isinstance(t, ast.GivenType) and (own := self._given_range(t)[1]) is not None:
+            r = (max(r[0], own[0]), min(r[1], own[1]))  # a given type's range is the type: a path's narrows it
         if r is None:
             raise Unbounded(name, paths[0] if paths else None, paths)
         lo, hi = math.ceil(r[0]), math.floor(r[1])

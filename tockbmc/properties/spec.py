@@ -717,15 +717,7 @@ def _whole(prefix: tuple, b: EventSet) -> bool:
     return b.kind == "all"
 
 
-_BUILTINS: dict[str, Callable[..., object]] = {
-    "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
-    "EndBy": _endby, "Deadline": _endby, "StartBy": _startby, "wait": _wait, "timed_priority": lambda timed, p: p,
-    "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
-    "Union": _distributed("union"), "Inter": _distributed("inter"), "member": lambda timed, x, s: _member(x, s),
-}
-
-
-def _member(x: object, s: object) -> bool:
+def _member(timed: bool, x: object, s: object) -> bool:
     """CSPm's `member(x, S)`: an event of an event set, or a value of a set of values."""
     if isinstance(s, EventSet):
         if not isinstance(x, tuple):
@@ -734,6 +726,14 @@ def _member(x: object, s: object) -> bool:
     if not isinstance(s, frozenset):
         raise TypeError("member: the second argument is a set")
     return x in s
+
+
+_BUILTINS: dict[str, Callable[..., object]] = {
+    "CHAOS": _chaos, "RUN": _chaos, "WAIT": _wait, "EDeadline": _edeadline, "ADeadline": _adeadline,
+    "EndBy": _endby, "Deadline": _endby, "StartBy": _startby, "wait": _wait, "timed_priority": lambda timed, p: p,
+    "union": _set_op("union"), "diff": _set_op("diff"), "inter": _set_op("inter"),
+    "Union": _distributed("union"), "Inter": _distributed("inter"), "member": _member,
+}
 
 
 # ---------------------------------------------------------------- operational semantics
