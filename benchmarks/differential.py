@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import argparse
 import collections
-import multiprocessing
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -73,8 +73,11 @@ def main() -> None:
     start = time.perf_counter()
     seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
               args.operations, args.bidirectional) for seed in range(args.seed, args.seed + args.cases)]
-    with multiprocessing.Pool(args.jobs) as pool:
-        done = pool.imap_unordered(run, seeds, chunksize=8) if args.jobs > 1 else map(run, seeds)
+    # Not multiprocessing.Pool: its workers are daemons, which may not start the worker process each
+    # case's BMC checks run in (`differential_cases._bmc`).
+    with ProcessPoolExecutor(args.jobs) as pool:
+        done = (f.result() for f in as_completed([pool.submit(run, s) for s in seeds])) if args.jobs > 1 \
+            else map(run, seeds)
         for seed, outcomes in done:
             if outcomes is None:
                 counts["model rejected"] += 1

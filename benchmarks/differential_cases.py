@@ -28,10 +28,12 @@ from fractions import Fraction
 from pathlib import Path
 
 import tockbmc
-from tockbmc.check import check
 from tockbmc.explicit.engine import check_explicit
+from tockbmc.model import ast
+from tockbmc.model.config import configure
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Proof, Result
+from tockbmc.parallel import InProcesses, Job
 
 RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)", "op(x)", "c <{1}"]
@@ -423,7 +425,7 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
         (Path(d) / "m.rct").write_text(rct)
         (Path(d) / "m.assertions").write_text(assertions)
         project = tockbmc.load(d)
-        symbolic = {r.assertion: r for r in check(project, bound=bound, ranges=ranges, timeout=timeout)}
+        symbolic = {r.assertion: r for r in _bmc(project, bound, ranges, timeout)}
         concrete = {r.assertion: r for r in check_explicit(project, None, explicit_bound, ranges, {}, timeout, 200_000)}
         out = []
         for name, b in symbolic.items():
@@ -458,7 +460,7 @@ def _same_length(project: object, name: str, b: Result, e: Result,
     for k in (bound, 3 * bound):
         if vb <= ve:
             break
-        b = check(project, [name], bound=k, ranges=ranges, timeout=timeout, shortest="events")[0]  # type: ignore[arg-type]
+        b = _bmc(project, k, ranges, timeout, "events", name)[0]  # type: ignore[arg-type]
         if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1] or "shortest" in b.extra:
             return None, f"BMC asked for the fewest visible steps within {k} steps: {b.verdict}, {b.reason}"
         vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
@@ -472,6 +474,17 @@ def _same_length(project: object, name: str, b: Result, e: Result,
     if vb != ve:
         return False, f"visible lengths {vb} (bmc) and {ve} (explicit)"
     return True, note
+
+
+def _bmc(project: ast.Project, bound: int, ranges: Ranges, timeout: float, shortest: str = "steps",
+         name: str | None = None) -> list[Result]:
+    """BMC's results, one assertion after another in a worker process, which is ended where Z3 does
+    not stop at the timeout (`parallel.Job.hard_limit`: the assertion is then `unknown`)."""
+    config = configure(project, ranges)
+    job = Job(config, bound, timeout, shortest)
+    work = [(job, i) for i, a in enumerate(config.project.assertions) if name is None or a.name == name]
+    decided = dict(InProcesses(work, 1))
+    return [decided[n] for n in range(len(work))]
 
 
 def _deadlock_kind(r: Result) -> str | None:

@@ -225,3 +225,28 @@ def test_dask_with_no_scheduler_there_is_a_usage_error(tmp_path: Path, monkeypat
     result = run_cli(["check", counter_project(tmp_path), "--dask", "tcp://127.0.0.1:1"])
     assert result.crash is None and result.exit_code == 2, result.output
     assert "cannot reach a Dask scheduler at tcp://127.0.0.1:1" in result.stderr
+
+
+class _Stuck(Job):
+    """A job whose worker never returns, as Z3 sometimes does not at its timeout (differential seed
+    3's untimed determinism check); a short hard limit keeps the test fast."""
+
+    def decide(self, index: int, progress: Any = None) -> Any:
+        time.sleep(120)
+        return super().decide(index, progress)
+
+    def hard_limit(self) -> float | None:
+        return 1.0
+
+
+def test_a_worker_past_its_hard_limit_is_ended_and_its_assertion_is_unknown(tmp_path: Path) -> None:
+    """The others are decided as without it, in new workers where the old ones were ended with it."""
+    project = load(counter_project(tmp_path))
+    stuck, job = _Stuck(configure(project), bound=12, timeout=0.1), Job(configure(project), bound=12)
+    start = time.perf_counter()
+    decided = dict(InProcesses([(stuck, 0), (job, 1), (job, 2)], 2))
+    assert time.perf_counter() - start < 30
+    assert decided[0].verdict == "unknown" and decided[0].assertion == "T" and decided[0].proof == "none"
+    assert "did not stop at the timeout (0.1 s): the worker process deciding it was ended" in (decided[0].reason or "")
+    assert decided[2].verdict == "violated"  # as in one process: Counter terminates
+    assert [decided[n].verdict for n in (1, 2)] == [job.decide(n).verdict for n in (1, 2)]

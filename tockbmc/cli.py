@@ -202,7 +202,8 @@ def default_jobs() -> int:
                                         "the scope, and each trace as a sequence diagram beside its steps.")
 @click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
               help="Decide the assertions in N worker processes (default: the number of cores); 1 decides them "
-                   "in this process.  The results and their order are the same.")
+                   "in this process.  The results and their order are the same, but that a worker still deciding "
+                   "at twice --timeout plus 5 s is ended (Z3 overran) and its assertion is unknown.")
 @click.option("--dask", "dask_address", default=None, metavar="ADDRESS",
               help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
                    "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
@@ -294,8 +295,8 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
     runner: InProcess | InProcesses | OnDask
     if dask_address is not None:
         runner = OnDask(work, dask_address, progress)
-    elif workers == 1 or len(work) <= 1:
-        runner = InProcess(work, progress)
+    elif workers == 1 or (len(work) <= 1 and job.hard_limit() is None):
+        runner = InProcess(work, progress)  # with a timeout, a worker: it is ended if Z3 overruns (Job.hard_limit)
     else:
         runner = InProcesses(work, workers, progress)
     table = None

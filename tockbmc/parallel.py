@@ -39,10 +39,13 @@ from tockbmc.explicit.engine import DEFAULT_MAX_STATES
 from tockbmc.explicit.engine import check_assertion as check_assertion_explicit
 from tockbmc.model.config import Configuration
 from tockbmc.model.limits import recursion_room
-from tockbmc.model.result import Result
+from tockbmc.model.result import Proof, Result, Verdict
 
 # Told (n, depth): the depth the search for the n-th assertion of the work has cleared, None when its check starts.
 Progress = Callable[[int, int | None], None]
+
+
+HARD_LIMIT_SLACK = 5.0  # seconds past twice the timeout (replay, and k-induction's and PDR's share) before a worker is ended
 
 
 @dataclass(frozen=True)
@@ -66,6 +69,13 @@ class Job:
                                             progress)
         return check_assertion(project, a, self.bound, self.config, self.timeout, self.induction, self.shortest,
                                progress)
+
+    def hard_limit(self) -> float | None:
+        """Seconds after which a worker still deciding an assertion of this job is ended: Z3 does not
+        always stop at its timeout (its model-based quantifier instantiation can build array axioms
+        for minutes without looking at the clock: differential seed 3's untimed determinism check, with
+        a 2 s timeout, ran for 20 minutes), and no call stops it from outside, so the process is ended."""
+        return None if self.timeout is None else 2 * self.timeout + HARD_LIMIT_SLACK
 
     def pickled(self) -> bytes:
         """The job as bytes, for a worker (a model nested to the limit pickles deeper than Python's default)."""
@@ -214,36 +224,77 @@ def warm_up() -> None:
         forkserver.ensure_running()
 
 
+def overran(job: Job, index: int, seconds: float) -> Result:
+    """The result of an assertion whose worker was ended at its hard limit (`Job.hard_limit`)."""
+    a = job.config.project.assertions[index]
+    return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
+                  ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.engine,
+                  pos=str(a.pos),
+                  reason=f"Z3 did not stop at the timeout ({job.timeout:g} s): the worker process deciding it "
+                         f"was ended after {seconds:.0f} s")
+
+
 class InProcesses:
-    """The assertions decided in `jobs` worker processes (`concurrent.futures`), results as decided."""
+    """The assertions decided in `jobs` worker processes (`concurrent.futures`), results as decided.
+
+    An assertion whose worker is still deciding it at its hard limit (`Job.hard_limit`) is `unknown`
+    (`overran`): the workers are ended, and the assertions not yet decided start again in new ones."""
 
     def __init__(self, work: Work, jobs: int, progress: Progress | None = None):
         self.work, self.jobs, self.progress = work, jobs, progress
         self.executor: ProcessPoolExecutor | None = None
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
+        left = dict(enumerate(self.work))
+        while left:
+            overrun: list[int] = []
+            for n, result in self._round(left, overrun):
+                del left[n]
+                yield n, result
+            for n in overrun:  # the workers were ended; the others left start again
+                job, index = left.pop(n)
+                yield n, overran(job, index, time.perf_counter() - self.started.pop(n))
+
+    def _round(self, left: dict[int, tuple[Job, int]], overrun: list[int]) -> Iterator[tuple[int, Result]]:
+        """Decide the assertions `left` in a fresh pool, until they are decided or one overruns (put
+        in `overrun`, and the pool's workers ended)."""
         context = _context()
-        sink = context.SimpleQueue() if self.progress is not None else None
-        blobs = _blobs(self.work)
-        self.executor = ProcessPoolExecutor(max_workers=max(1, min(self.jobs, len(self.work))), mp_context=context,
+        limited = any(job.timeout is not None for job, _ in left.values())
+        sink = context.SimpleQueue() if self.progress is not None or limited else None
+        blobs = _blobs(list(left.values()))
+        self.started: dict[int, float] = {}
+        self.executor = ProcessPoolExecutor(max_workers=max(1, min(self.jobs, len(left))), mp_context=context,
                                             initializer=_start_worker, initargs=(sink,))
-        relay = _Relay(_taker(sink), self.progress) if sink is not None and self.progress is not None else None
+        relay = _Relay(_taker(sink), self._told) if sink is not None else None
         finished = False
         try:
             pending: dict[Future[Result], int] = {
                 self.executor.submit(_decide_in_worker, blobs[id(job)], index, n): n
-                for n, (job, index) in enumerate(self.work)}
+                for n, (job, index) in left.items()}
             while pending:
-                ready, _ = wait(pending, return_when=FIRST_COMPLETED)
+                ready, _ = wait(pending, timeout=0.5 if limited else None, return_when=FIRST_COMPLETED)
                 for future in sorted(ready, key=pending.__getitem__):
                     yield pending.pop(future), future.result()
+                now = time.perf_counter()
+                late = [n for n in pending.values() if n in self.started
+                        and (limit := left[n][0].hard_limit()) is not None and now - self.started[n] > limit]
+                if late:
+                    overrun.extend(sorted(late))
+                    return
             finished = True
         finally:
-            if not finished:  # an error, or the caller stopped drawing: no worker goes on solving
+            if not finished:  # an error, an overrun, or the caller stopped drawing: no worker goes on solving
                 self.stop()
             self.executor.shutdown(wait=finished, cancel_futures=True)
             if relay is not None:
                 relay.close()
+
+    def _told(self, n: int, depth: int | None) -> None:
+        """A worker's report: the start of an assertion's check (its hard limit counts from there), or a depth."""
+        if depth is None:
+            self.started[n] = time.perf_counter()
+        if self.progress is not None:
+            self.progress(n, depth)
 
     def stop(self) -> None:
         """End the worker processes at once (their Spacer children notice and end too, `bmc.pdr`)."""
