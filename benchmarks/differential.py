@@ -8,7 +8,8 @@ refinements of specifications that tell values of its events apart; with `--unti
 assertions and seven refinements in the failures models; with `--tick-tock`, five refinements in the
 tick-tock model, the model on the left of three and the specification on the left of two), checked with
 core_int=-1..1 by BMC (bound 16) and by the explicit engine (8 visible steps), each given
-`--timeout` seconds per assertion.  With `--data` the machines also hold a sequence, a set and a
+`--timeout` seconds per assertion (BMC's in a worker process that is ended where Z3 overruns it:
+`tockbmc.parallel.Job.hard_limit`).  With `--data` the machines also hold a sequence, a set and a
 tuple, updated and read by their actions and guards (quantifiers too), and receive a sequence
 whose length is at most 2 (`DATA_RANGES`).  With `--operations`, the machine's body (a controller's
 first machine's; not with `--data`) is also an operation `Mop(k : int)` whose parameter its statements
@@ -25,6 +26,8 @@ from __future__ import annotations
 
 import argparse
 import collections
+import json
+import subprocess
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -68,17 +71,35 @@ def main() -> None:
                         help="also check the machine's body as an operation on its own, with a parameter")
     parser.add_argument("--bidirectional", action="store_true",
                         help="make one boundary connection of a controller bidirectional ([ mult ])")
+    parser.add_argument("--log", type=Path, default=None,
+                        help="append each case's outcome to this file (JSON lines: commit, options, seed, counts, "
+                             "disagreements); a case already there for this commit and these options is not run "
+                             "again, so that a long run can be made in parts and added up (--summary)")
+    parser.add_argument("--summary", action="store_true", help="only print the totals of --log, per commit and options")
     args = parser.parse_args()
+    if args.summary and args.log is None:
+        parser.error("--summary reads the file of --log")
+    options = {k: v for k, v in vars(args).items() if k not in ("cases", "seed", "jobs", "log", "summary")}
+    key = {"commit": _commit(), "options": options}
+    logged = _logged(args.log, key) if args.log is not None else {}
+    if args.summary:
+        _summarise(args.log)
+        return
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
     seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
-              args.operations, args.bidirectional) for seed in range(args.seed, args.seed + args.cases)]
+              args.operations, args.bidirectional) for seed in range(args.seed, args.seed + args.cases)
+             if seed not in logged]
+    if logged:
+        print(f"{args.cases - len(seeds)} of the {args.cases} cases are in {args.log} already", flush=True)
     # Not multiprocessing.Pool: its workers are daemons, which may not start the worker process each
     # case's BMC checks run in (`differential_cases._bmc`).
     with ProcessPoolExecutor(args.jobs) as pool:
         done = (f.result() for f in as_completed([pool.submit(run, s) for s in seeds])) if args.jobs > 1 \
             else map(run, seeds)
         for seed, outcomes in done:
+            if args.log is not None:
+                _append(args.log, key, seed, outcomes)
             if outcomes is None:
                 counts["model rejected"] += 1
                 continue
@@ -104,6 +125,52 @@ def _count(seed: int, outcomes: list, counts: collections.Counter[str]) -> None:
         counts[key] += 1
         if o.agree is False:
             print(f"DISAGREE seed {seed} {o.assertion}: bmc {o.bmc}, explicit {o.explicit} {o.note}", flush=True)
+
+
+def _commit() -> str:
+    """The checkout's commit, with "+changes" where its tracked files differ from it."""
+    root = Path(__file__).resolve().parent.parent
+    def git(*a: str) -> str:
+        return subprocess.run(["git", *a], cwd=root, capture_output=True, text=True).stdout.strip()
+    return (git("rev-parse", "HEAD") or "unknown") + ("+changes" if git("status", "--porcelain", "-uno") else "")
+
+
+def _logged(log: Path, key: dict) -> dict[int, dict]:
+    if not log.exists():
+        return {}
+    lines = (json.loads(line) for line in log.read_text().splitlines() if line.strip())
+    return {r["seed"]: r for r in lines if r["commit"] == key["commit"] and r["options"] == key["options"]}
+
+
+def _append(log: Path, key: dict, seed: int, outcomes: list | str | None) -> None:
+    record = {**key, "seed": seed}
+    if outcomes is None:
+        record["rejected"] = True
+    elif isinstance(outcomes, str):
+        record["crash"] = outcomes
+    else:
+        kinds = collections.Counter("agree" if o.agree else "disagree" if o.agree is False else "not comparable"
+                                    for o in outcomes)
+        record.update(kinds)
+        record["disagreements"] = [f"{o.assertion}: bmc {o.bmc}, explicit {o.explicit} {o.note}"
+                                   for o in outcomes if o.agree is False]
+    with log.open("a") as f:
+        f.write(json.dumps(record) + "\n")
+
+
+def _summarise(log: Path) -> None:
+    totals: dict[str, collections.Counter[str]] = collections.defaultdict(collections.Counter)
+    for line in log.read_text().splitlines():
+        r = json.loads(line)
+        c = totals[json.dumps({"commit": r["commit"], "options": r["options"]}, sort_keys=True)]
+        c["cases"] += not r.get("rejected") and "crash" not in r
+        c["crashed"] += "crash" in r
+        c["model rejected"] += bool(r.get("rejected"))
+        for k in ("agree", "disagree", "not comparable"):
+            c[k] += r.get(k, 0)
+    for what, c in totals.items():
+        print(f"{what}\n  {c['cases']} cases: {c['agree']} agree, {c['disagree']} disagree; "
+              f"{c['not comparable']} not comparable; {c['model rejected']} models rejected; {c['crashed']} crashed")
 
 
 if __name__ == "__main__":
