@@ -1052,6 +1052,47 @@ assertion KSet: K refines KS in the traces model with constant p of K set to 1 a
     expect(ps["AK10"], "holds")  # D__ arguments set a parameter too
 
 
+def test_model_process_arguments_in_robotools_constant_names(tmp_path) -> None:
+    """RoboTool's assertion files pass a constant's instantiated value by its generated name,
+    `K::D__(0, const_K_p, const_K_q)` (ChemicalDetector-autonomous8's `GasAnalysis::O__(0,
+    const_GasAnalysis_thr)`): the value the configuration gives that constant. The Instantiations
+    block sets p = 1 and leaves q at RoboTool's default 0, so KI (by the names) is K: e.1 then f.0,
+    which KS allows (holds); with q = 1 by `with constant`, <K::e.out.1, K::f.out.1>. Another
+    constant's name in p's place is refused, naming the one understood there."""
+    rct = """
+stm K {
+  const p : int
+  const q : int
+  event e : int
+  event f : int
+  initial i
+  state s { entry e!p ; f!q }
+  transition t0 { from i to s }
+}
+"""
+    text = """
+csp Instantiations csp-begin
+const_K_p = 1
+csp-end
+timed csp Ks csp-begin
+Timed(OneStep) {
+  KI = K::D__(0, const_K_p, const_K_q)
+  KX = K::D__(0, const_K_q)
+  KS = K::e.out.1 -> K::f.out.0 -> STOP
+}
+csp-end
+assertion AKI: KI refines KS in the traces model.
+assertion AKIq: KI refines KS in the traces model with constant q of K set to 1.
+assertion AKX: KX refines KS in the traces model.
+"""
+    rs = run(tmp_path, rct, text, ranges=MINUS1_1)
+    expect(rs["AKI"], "holds")
+    expect(rs["AKIq"], "violated", ["K::e.out.1", "K::f.out.1"])
+    expect(rs["AKX"], "unsupported")
+    assert "the argument for constant p of K is const_K_q; only RoboTool's name of that constant, const_K_p" \
+        in (rs["AKX"].reason or ""), rs["AKX"].reason
+
+
 # ---------------------------------------------------------------------------- outside the subset
 
 

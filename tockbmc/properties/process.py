@@ -60,6 +60,23 @@ class Implementation:
     renames: tuple[tuple[tuple, tuple], ...] = ()
 
 
+@dataclass(frozen=True)
+class RoboToolConstant:
+    """An argument of `M::D__(id, …)` written as RoboTool's generated name of a constant,
+    `const_M_c`: the value its instantiation gives (`properties.queries._arguments`)."""
+
+    name: str
+
+
+def _argument(ev: Evaluator, t: Tree, env: Env) -> object:
+    """An argument of `M::D__`/`M::O__`: a value, or RoboTool's name of a constant no block defines."""
+    if isinstance(t, Tree) and t.data == "name":
+        name = str(t.children[0])
+        if name.startswith("const_") and env.lookup(name) is None and ev.lookup_top(name) is None:
+            return RoboToolConstant(name)
+    return ev.eval(t, env)
+
+
 def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = frozenset()) -> Implementation | Proc:
     """Walk an expression: an `Implementation` if it contains a model process, else a specification term.
 
@@ -81,7 +98,7 @@ def implementation(ev: Evaluator, t: Tree, env: Env, seen: frozenset[int] = froz
         head = c[0]
         name = str(head.children[0]) if head.data == "name" else ""
         if name.endswith("::D__") or name.endswith("::O__"):
-            return Implementation(name[:-5], tuple(ev.eval(a, env) for a in c[1:]), pos_of(ev.block, t))
+            return Implementation(name[:-5], tuple(_argument(ev, a, env) for a in c[1:]), pos_of(ev.block, t))
         if name == "timed_priority" and len(c) == 2:
             return implementation(ev, c[1], env, seen)
         found = env.lookup(name)

@@ -28,7 +28,7 @@ from tockbmc.properties.deadlock import (
 )
 from tockbmc.properties.failures import FAILURES_MODELS, Refusals, offered_at
 from tockbmc.properties.goals import ElementSpec, Goal, Query, number_at, says, stuck, terminated, timelocked, true_at
-from tockbmc.properties.process import Context, Implementation, MonitorExtension, implementation
+from tockbmc.properties.process import Context, Implementation, MonitorExtension, RoboToolConstant, implementation
 from tockbmc.properties.spec import EnumValue, Env, Evaluator, Monitor, Proc, Semantics, Stop
 from tockbmc.properties.ticktock import TICK_TOCK, TickTockMonitor
 
@@ -479,6 +479,14 @@ def _arguments(element: ast.StateMachine | ast.Controller | ast.Module,
                                  f"but {len(given)} argument(s) are given after the id")
     out = []
     for c, v in zip(constants, given, strict=False):
+        if isinstance(v, RoboToolConstant):
+            # RoboTool's generated name of this very constant (`const_GasAnalysis_thr` for GasAnalysis's
+            # thr): the value its instantiation gives, which is what the configuration gives it anyway.
+            if v.name != f"const_{element.name}_{c.name}":
+                raise CspError(impl.pos, f"the argument for constant {c.name} of {element.name} is {v.name}; "
+                                         f"only RoboTool's name of that constant, const_{element.name}_{c.name}, "
+                                         "is understood there")
+            continue
         if not isinstance(v, (int, bool)):
             raise CspError(impl.pos, f"the argument for constant {c.name} must be a number or a boolean")
         out.append((c.name, ast.Literal(c.type, impl.pos, v)))
