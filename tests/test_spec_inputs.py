@@ -336,3 +336,41 @@ timed assertion A3 : M refines Sp3 in the traces model
         a2 = results["A2"]
         assert a2.verdict == "violated" and visible(a2) == ["M::a.in", "M::a.in"], a2.reason
         assert results["A3"].verdict == "holds", results["A3"].reason
+
+
+ECHO = """
+stm M {
+  event a : int
+  event e : int
+  var x : int
+  initial i
+  state s {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger a?x action e!x }
+}
+"""
+
+
+def test_an_input_restricted_to_a_set(tmp_path: Path) -> None:
+    """`c?x:S -> P` is `[] v:S @ c.v -> P` (AlphaAlgorithm's `broadcast.in?x:diff(ID, {id})`). M echoes
+    what it receives, any of core_int = -2..2. Any holds; Low, which takes only 0 and 1 on a, is
+    violated by one event a.in.v, v in {-2, -1, 2}, in the traces model and in the failures model; Back, whose output is restricted to what M sent, holds: after a.in.y every
+    e.out.z with z in {y} is offered (a one-element set of a read value)."""
+    specs = """
+untimed csp Specs csp-begin
+Any = M::a.in?y:{-2..2} -> M::e.out?z:{-2..2} -> Any
+Low = M::a.in?y:{0, 1} -> M::e.out!y -> Low
+Back = M::a.in?y -> M::e.out?z:{y} -> Back
+csp-end
+untimed assertion A : M refines Any in the traces model
+untimed assertion L : M refines Low in the traces model
+untimed assertion LF : M refines Low in the failures model
+untimed assertion B : M refines Back in the failures divergences model
+"""
+    symbolic, concrete = both(tmp_path, ECHO, specs)
+    for results in (symbolic, concrete):
+        for name in ("A", "B"):
+            assert results[name].verdict == "holds", (name, results[name].reason)
+        for name in ("L", "LF"):
+            assert results[name].verdict == "violated", (name, results[name].reason)
+            assert visible(results[name]) in (["M::a.in.-2"], ["M::a.in.-1"], ["M::a.in.2"]), visible(results[name])

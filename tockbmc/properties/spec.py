@@ -375,6 +375,8 @@ class Evaluator:
         if k == "apply":
             return self.apply(t, env)
         if k == "prefix":
+            if any(isinstance(x, Tree) and x.data == "restricted" for x in c[0].children):
+                return self.restricted_prefix(t, env)
             return Prefix(self.pattern(c[0], env, _names_in(c[1])), c[1], env, env.timed)
         if k == "guard":
             return self.proc(c[1], env) if self.boolean(c[0], env) else Stop(env.timed)
@@ -561,6 +563,36 @@ class Evaluator:
             raise self.error(t, "this value comes from an input the specification does not track")
         return v
 
+    def restricted_prefix(self, t: Tree, env: Env) -> Proc:
+        """`c?x:S -> P`, CSP's `[] v:S @ c.v -> P[v/x]`: a prefix per value of each restricted input
+        (their combinations), the other inputs as they are, offered as an external choice."""
+        comm, then = t.children
+        parts = comm.children
+        base = self.eval(parts[0], env)
+        if not isinstance(base, tuple):
+            raise self.error(t, "expected an event")
+        combos: list[tuple[tuple, dict[str, object]]] = [(base, {})]
+        read = _names_in(then)
+        for kind, arg in zip(parts[1::2], parts[2::2], strict=True):
+            if str(kind) == "?" and isinstance(arg, Tree) and arg.data == "restricted":
+                name, over = str(arg.children[0]), arg.children[1]
+                values = self.eval(over, env)
+                if not isinstance(values, frozenset):
+                    raise self.error(over, "the set an input is restricted to must be a set of values")
+                members = sorted(values, key=_member_order)
+                combos = [((*e, v), {**b, name: v}) for e, b in combos for v in members]
+            elif str(kind) == "?":
+                combos = [((*e, Input(str(arg), str(arg) in read)), b) for e, b in combos]
+            else:
+                combos = [((*e, self.field(arg, env)), b) for e, b in combos]
+        procs: list[Proc] = [Prefix(e, then, Env(b, {}, env.timed, env), env.timed) for e, b in combos]
+        if not procs:
+            return Stop(env.timed)
+        out = procs[0]
+        for q in procs[1:]:
+            out = Binary("external", out, q, None, env.timed)
+        return out
+
     def pattern(self, t: Tree, env: Env, read: frozenset[str] = frozenset()) -> tuple:
         """An event with its inputs (`?x`); `read` holds the names what follows the prefix reads."""
         c = t.children
@@ -571,6 +603,8 @@ class Evaluator:
         i = 1
         while i < len(c):
             kind, arg = str(c[i]), c[i + 1]
+            if isinstance(arg, Tree) and arg.data == "restricted":
+                raise self.error(arg, "an input restricted to a set, '?x:S', is understood in a prefix 'c?x:S -> P' only")
             out.append(Input(str(arg), str(arg) in read) if kind == "?" else self.field(arg, env))
             i += 2
         return tuple(out)
