@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 from functools import cache
+from pathlib import Path
 
 from conftest import CONFORMANCE
 
@@ -110,18 +111,25 @@ def robotool_config(project: ast.Project) -> Configuration:
 
 
 @cache
+def corpus() -> list[tuple[Path, ast.Project]]:
+    """The cases checked here, loaded (test_conformance_load.py says which cases load)."""
+    out = []
+    for case in sorted((CONFORMANCE / "robochart").iterdir()):
+        if case.name not in NOT_CHECKED:
+            try:
+                out.append((case, load(case)))
+            except ModelError:
+                continue
+    return out
+
+
+@cache
 def results() -> dict[tuple[str, str], tuple[str, str]]:
     """Every checked assertion's verdict and reason, decided in one worker process per core (as
     `check -j`, whose results are those of one process: tests/test_parallel.py)."""
     work: list[tuple[Job, int]] = []
     keys: list[tuple[str, str]] = []
-    for case in sorted((CONFORMANCE / "robochart").iterdir()):
-        if case.name in NOT_CHECKED:
-            continue
-        try:
-            project = load(case)
-        except ModelError:
-            continue  # test_conformance_load.py says which cases load
+    for case, project in corpus():
         config = robotool_config(project)
         job, undecided = Job(config, BOUND, 60), Job(config, BOUND, UNDECIDED_TIMEOUT)
         for i, a in enumerate(project.assertions):
@@ -241,13 +249,7 @@ def test_clock_initialisation_is_unsupported_and_says_so() -> None:
 def test_engines_agree_on_the_corpus() -> None:
     """Every corpus assertion both engines decide gets the same verdict from both (bound 12)."""
     compared, disagreements, unbounded = 0, [], set()
-    for case in sorted((CONFORMANCE / "robochart").iterdir()):
-        if case.name in NOT_CHECKED:
-            continue
-        try:
-            project = load(case)
-        except ModelError:
-            continue
+    for case, project in corpus():
         try:
             decided = check_explicit(project, None, 12, Ranges(), {}, timeout=3, max_states=100_000,
                                      config=robotool_config(project))

@@ -1006,15 +1006,7 @@ assertion NP: Bn refines NPn in the traces model.
 # ---------------------------------------------------------------------------- model processes
 
 
-def test_model_process_arguments_set_constants(tmp_path) -> None:
-    """§4 `M::D__(id, c1, …)` / `M::O__(id, …)`: arguments after id set K's constants in
-    declaration order (p, then q). K outputs e!p then f!q (not urgent). KS = e.1 -> f.0 -> STOP.
-    D__(0, 1, 0): p = 1, q = 0: holds. D__(0, 0, 1): p = 0: <K::e.out.0>. O__(0, 1, 1): q = 1:
-    <K::e.out.1, K::f.out.1>. K itself takes RoboTool's default p = q = 0: <K::e.out.0>; with p a
-    parameter (core_int = -1..1), the counterexample is one event K::e.out.v with v in {-1, 0}.
-    With p and q set by `with constant`: holds.
-    """
-    rct = """
+K_MACHINE = """
 stm K {
   const p : int
   const q : int
@@ -1025,6 +1017,17 @@ stm K {
   transition t0 { from i to s }
 }
 """
+
+
+def test_model_process_arguments_set_constants(tmp_path) -> None:
+    """§4 `M::D__(id, c1, …)` / `M::O__(id, …)`: arguments after id set K's constants in
+    declaration order (p, then q). K outputs e!p then f!q (not urgent). KS = e.1 -> f.0 -> STOP.
+    D__(0, 1, 0): p = 1, q = 0: holds. D__(0, 0, 1): p = 0: <K::e.out.0>. O__(0, 1, 1): q = 1:
+    <K::e.out.1, K::f.out.1>. K itself takes RoboTool's default p = q = 0: <K::e.out.0>; with p a
+    parameter (core_int = -1..1), the counterexample is one event K::e.out.v with v in {-1, 0}.
+    With p and q set by `with constant`: holds.
+    """
+    rct = K_MACHINE
     text = """
 timed csp Ks csp-begin
 Timed(OneStep) {
@@ -1059,17 +1062,7 @@ def test_model_process_arguments_in_robotools_constant_names(tmp_path) -> None:
     block sets p = 1 and leaves q at RoboTool's default 0, so KI (by the names) is K: e.1 then f.0,
     which KS allows (holds); with q = 1 by `with constant`, <K::e.out.1, K::f.out.1>. Another
     constant's name in p's place is refused, naming the one understood there."""
-    rct = """
-stm K {
-  const p : int
-  const q : int
-  event e : int
-  event f : int
-  initial i
-  state s { entry e!p ; f!q }
-  transition t0 { from i to s }
-}
-"""
+    rct = K_MACHINE
     text = """
 csp Instantiations csp-begin
 const_K_p = 1
