@@ -1082,7 +1082,7 @@ assertion AKX: KX refines KS in the traces model.
     expect(rs["AKI"], "holds")
     expect(rs["AKIq"], "violated", ["K::e.out.1", "K::f.out.1"])
     expect(rs["AKX"], "unsupported")
-    assert "the argument for constant p of K is const_K_q; only RoboTool's name of that constant, const_K_p" \
+    assert "the argument for constant p of K is const_K_q; only RoboTool's name of that constant (const_K_p)" \
         in (rs["AKX"].reason or ""), rs["AKX"].reason
 
 

@@ -247,6 +247,6 @@ def test_a_worker_past_its_hard_limit_is_ended_and_its_assertion_is_unknown(tmp_
     decided = dict(InProcesses([(stuck, 0), (job, 1), (job, 2)], 2))
     assert time.perf_counter() - start < 30
     assert decided[0].verdict == "unknown" and decided[0].assertion == "T" and decided[0].proof == "none"
-    assert "did not stop at the timeout (0.1 s): the worker process deciding it was ended" in (decided[0].reason or "")
+    assert "the check did not stop at its timeout (0.1 s): the worker process deciding it was ended" in (decided[0].reason or "")
     assert decided[2].verdict == "violated"  # as in one process: Counter terminates
     assert [decided[n].verdict for n in (1, 2)] == [job.decide(n).verdict for n in (1, 2)]

@@ -10,14 +10,18 @@ from __future__ import annotations
 from fractions import Fraction
 from pathlib import Path
 
+import pytest
 from conftest import write_files
 
 import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit
+from tockbmc.model.ast import CspBlock, Pos
 from tockbmc.model.config import configure
+from tockbmc.model.csp import CspError, parse_block
 from tockbmc.model.result import Result
+from tockbmc.properties.spec import OTHER, Binary, Evaluator, Prefix, Thunk
 
 NAT = Ranges({"core_nat": Range(Fraction(0), Fraction(2)), "core_int": Range(Fraction(-2), Fraction(2))})
 
@@ -374,3 +378,35 @@ untimed assertion B : M refines Back in the failures divergences model
         for name in ("L", "LF"):
             assert results[name].verdict == "violated", (name, results[name].reason)
             assert visible(results[name]) in (["M::a.in.-2"], ["M::a.in.-1"], ["M::a.in.2"]), visible(results[name])
+
+
+
+def _prefixes(text: str, name: str, *args: object) -> list[tuple]:
+    """The events the prefixes of definition `name` (applied to `args`) offer, in order."""
+    block = CspBlock("S", "untimed", (), text, Pos("s.assertions", 1, 1), ())
+    defs = {d.name: d for d in parse_block(block)}
+    ev = Evaluator(defs.get, block)
+    out, todo = [], [ev.definition(defs[name], args)]
+    while todo:
+        p = todo.pop(0)
+        if isinstance(p, Thunk):
+            p = ev.eval(p.tree, p.env)
+        if isinstance(p, Binary):
+            todo += [p.left, p.right]
+        elif isinstance(p, Prefix):
+            out.append(p.pattern)
+        else:
+            out.append(p)
+    return out
+
+
+def test_a_restricted_input_reads_the_inputs_before_it() -> None:
+    """In `c?x:S?y:{x}` and `c?x:S!x` the later fields read the x just bound, not an outer one (review
+    finding: `P(7)` offered c.0.7 and c.1.7); `?x:{}` offers nothing (STOP); a set holding a value the
+    specification does not track (an input that is not listed) is refused, as `c!y` is."""
+    text = "P(x) = M::c?x:{0, 1}!x -> STOP\nQ = M::c?x:{0, 1}?y:{x} -> STOP\nE = M::c?x:{} -> STOP\n"
+    assert _prefixes(text, "P", 7) == [("M::c", 0, 0), ("M::c", 1, 1)]
+    assert _prefixes(text, "Q") == [("M::c", 0, 0), ("M::c", 1, 1)]
+    assert [type(p).__name__ for p in _prefixes(text, "E")] == ["Stop"]
+    with pytest.raises(CspError, match="does not track"):
+        _prefixes("R(y) = M::c?x:{y} -> STOP\n", "R", OTHER)

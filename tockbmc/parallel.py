@@ -230,8 +230,8 @@ def overran(job: Job, index: int, seconds: float) -> Result:
     return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
                   ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.engine,
                   pos=str(a.pos),
-                  reason=f"Z3 did not stop at the timeout ({job.timeout:g} s): the worker process deciding it "
-                         f"was ended after {seconds:.0f} s")
+                  reason=f"the check did not stop at its timeout ({job.timeout:g} s): the worker process "
+                         f"deciding it was ended after {seconds:.0f} s")
 
 
 class InProcesses:
@@ -243,71 +243,84 @@ class InProcesses:
     def __init__(self, work: Work, jobs: int, progress: Progress | None = None):
         self.work, self.jobs, self.progress = work, jobs, progress
         self.executor: ProcessPoolExecutor | None = None
+        self._stopped = False  # by `stop` (Ctrl-C): no pool is started after it
+        self._lock = threading.Lock()  # `stop` comes from another thread, maybe while a new pool starts
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
         left = dict(enumerate(self.work))
-        while left:
+        while left and not self._stopped:
             overrun: list[int] = []
-            for n, result in self._round(left, overrun):
+            started: dict[int, float] = {}  # this pool's: a report from an earlier pool cannot land here
+            for n, result in self._round(left, overrun, started):
                 del left[n]
                 yield n, result
             for n in overrun:  # the workers were ended; the others left start again
                 job, index = left.pop(n)
-                yield n, overran(job, index, time.perf_counter() - self.started.pop(n))
+                yield n, overran(job, index, time.perf_counter() - started[n])
 
-    def _round(self, left: dict[int, tuple[Job, int]], overrun: list[int]) -> Iterator[tuple[int, Result]]:
+    def _round(self, left: dict[int, tuple[Job, int]], overrun: list[int],
+               started: dict[int, float]) -> Iterator[tuple[int, Result]]:
         """Decide the assertions `left` in a fresh pool, until they are decided or one overruns (put
-        in `overrun`, and the pool's workers ended)."""
+        in `overrun`, and the pool's workers ended); `started` is told when each check starts."""
         context = _context()
         limited = any(job.timeout is not None for job, _ in left.values())
         sink = context.SimpleQueue() if self.progress is not None or limited else None
         blobs = _blobs(list(left.values()))
-        self.started: dict[int, float] = {}
-        self.executor = ProcessPoolExecutor(max_workers=max(1, min(self.jobs, len(left))), mp_context=context,
-                                            initializer=_start_worker, initargs=(sink,))
-        relay = _Relay(_taker(sink), self._told) if sink is not None else None
+        with self._lock:
+            if self._stopped:
+                return
+            executor = self.executor = ProcessPoolExecutor(
+                max_workers=max(1, min(self.jobs, len(left))), mp_context=context, initializer=_start_worker,
+                initargs=(sink,))
+
+        def told(n: int, depth: int | None) -> None:
+            if depth is None:  # the check starts: its hard limit counts from here
+                started[n] = time.perf_counter()
+            if self.progress is not None:
+                self.progress(n, depth)
+
+        relay = _Relay(_taker(sink), told) if sink is not None else None
         finished = False
         try:
             pending: dict[Future[Result], int] = {
-                self.executor.submit(_decide_in_worker, blobs[id(job)], index, n): n
-                for n, (job, index) in left.items()}
+                executor.submit(_decide_in_worker, blobs[id(job)], index, n): n for n, (job, index) in left.items()}
             while pending:
                 ready, _ = wait(pending, timeout=0.5 if limited else None, return_when=FIRST_COMPLETED)
                 for future in sorted(ready, key=pending.__getitem__):
                     yield pending.pop(future), future.result()
                 now = time.perf_counter()
-                late = [n for n in pending.values() if n in self.started
-                        and (limit := left[n][0].hard_limit()) is not None and now - self.started[n] > limit]
+                late = [n for n in pending.values() if n in started
+                        and (limit := left[n][0].hard_limit()) is not None and now - started[n] > limit]
                 if late:
                     overrun.extend(sorted(late))
                     return
             finished = True
         finally:
             if not finished:  # an error, an overrun, or the caller stopped drawing: no worker goes on solving
-                self.stop()
-            self.executor.shutdown(wait=finished, cancel_futures=True)
+                _kill(executor)
+            executor.shutdown(wait=finished, cancel_futures=True)
             if relay is not None:
                 relay.close()
 
-    def _told(self, n: int, depth: int | None) -> None:
-        """A worker's report: the start of an assertion's check (its hard limit counts from there), or a depth."""
-        if depth is None:
-            self.started[n] = time.perf_counter()
-        if self.progress is not None:
-            self.progress(n, depth)
-
     def stop(self) -> None:
-        """End the worker processes at once (their Spacer children notice and end too, `bmc.pdr`)."""
-        executor = self.executor
-        if executor is None:
-            return
-        kill = getattr(executor, "kill_workers", None)  # Python 3.14
-        if kill is not None:
-            kill()
-            return
-        for process in list((executor._processes or {}).values()):  # noqa: SLF001 - no public way before 3.14
-            if process.is_alive():
-                process.kill()
+        """End the worker processes at once (their Spacer children notice and end too, `bmc.pdr`),
+        and start no others."""
+        with self._lock:
+            self._stopped = True
+            executor = self.executor
+        if executor is not None:
+            _kill(executor)
+
+
+def _kill(executor: ProcessPoolExecutor) -> None:
+    """End a pool's worker processes at once."""
+    kill = getattr(executor, "kill_workers", None)  # Python 3.14
+    if kill is not None:
+        kill()
+        return
+    for process in list((executor._processes or {}).values()):  # noqa: SLF001 - no public way before 3.14
+        if process.is_alive():
+            process.kill()
 
 
 # --------------------------------------------------------------------------- Dask

@@ -14,6 +14,7 @@ from tockbmc.encodings import names
 from tockbmc.encodings.system import Target, TransitionSystem
 from tockbmc.encodings.unroller import Unroller
 from tockbmc.model import ast
+from tockbmc.model.config import robotool_slots
 from tockbmc.model.csp import CspError, Definition, parse_block
 from tockbmc.model.errors import Unsupported
 from tockbmc.properties.deadlock import (
@@ -158,7 +159,7 @@ def _resolve(project: ast.Project, impl: Implementation) -> tuple[ast.StateMachi
         raise Unsupported(None, f"'{impl.element}' names no machine, controller, module or operation")
     if isinstance(element, ast.OperationDef):
         element = ast.operation_machine(element)
-    return element, element.name, _arguments(element, impl)
+    return element, element.name, _arguments(project, element, impl)
 
 
 def _refinement(project: ast.Project, a: ast.Assertion, ev: Evaluator, sem: Semantics) -> Query:
@@ -466,7 +467,7 @@ def _process(ev: Evaluator, project: ast.Project, name: str) -> Implementation |
     return implementation(ev, d.body, Env({}, {}, d.timed))
 
 
-def _arguments(element: ast.StateMachine | ast.Controller | ast.Module,
+def _arguments(project: ast.Project, element: ast.StateMachine | ast.Controller | ast.Module,
                impl: Implementation) -> tuple[tuple[str, ast.Expr], ...]:
     """`M::D__(id, c1, …)`: the arguments after `id` set M's constants in declaration order."""
     if len(impl.args) <= 1:
@@ -482,9 +483,11 @@ def _arguments(element: ast.StateMachine | ast.Controller | ast.Module,
         if isinstance(v, RoboToolConstant):
             # RoboTool's generated name of this very constant (`const_GasAnalysis_thr` for GasAnalysis's
             # thr): the value its instantiation gives, which is what the configuration gives it anyway.
-            if v.name != f"const_{element.name}_{c.name}":
+            names = [n for slot in robotool_slots(project, element) if slot.variable.name == c.name
+                     for n in slot.names]
+            if v.name not in names:
                 raise CspError(impl.pos, f"the argument for constant {c.name} of {element.name} is {v.name}; "
-                                         f"only RoboTool's name of that constant, const_{element.name}_{c.name}, "
+                                         f"only RoboTool's name of that constant ({', '.join(names)}) "
                                          "is understood there")
             continue
         if not isinstance(v, (int, bool)):

@@ -576,15 +576,20 @@ class Evaluator:
         for kind, arg in zip(parts[1::2], parts[2::2], strict=True):
             if str(kind) == "?" and isinstance(arg, Tree) and arg.data == "restricted":
                 name, over = str(arg.children[0]), arg.children[1]
-                values = self.eval(over, env)
-                if not isinstance(values, frozenset):
-                    raise self.error(over, "the set an input is restricted to must be a set of values")
-                members = sorted(values, key=_member_order)
-                combos = [((*e, v), {**b, name: v}) for e, b in combos for v in members]
+                grown = []
+                for e, b in combos:  # the set may read an input before it: `c?x:S?y:{x}`
+                    values = self.eval(over, Env(b, {}, env.timed, env))
+                    if isinstance(values, EventSet) and values.kind == "exact" and not values.items:
+                        values = frozenset()  # `{}`
+                    if not isinstance(values, frozenset):
+                        raise self.error(over, "the set an input is restricted to must be a set of values")
+                    _no_other(self, over, *values)
+                    grown += [((*e, v), {**b, name: v}) for v in sorted(values, key=_member_order)]
+                combos = grown
             elif str(kind) == "?":
                 combos = [((*e, Input(str(arg), str(arg) in read)), b) for e, b in combos]
             else:
-                combos = [((*e, self.field(arg, env)), b) for e, b in combos]
+                combos = [((*e, self.field(arg, Env(b, {}, env.timed, env))), b) for e, b in combos]
         procs: list[Proc] = [Prefix(e, then, Env(b, {}, env.timed, env), env.timed) for e, b in combos]
         if not procs:
             return Stop(env.timed)
