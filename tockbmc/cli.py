@@ -295,8 +295,10 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
     runner: InProcess | InProcesses | OnDask
     if dask_address is not None:
         runner = OnDask(work, dask_address, progress)
-    elif workers == 1 or (len(work) <= 1 and job.hard_limit() is None):
-        runner = InProcess(work, progress)  # with a timeout, a worker: it is ended if Z3 overruns (Job.hard_limit)
+    elif workers == 1 or len(work) <= 1:
+        # A single assertion (or -j 1) is decided here, without the workers' hard limit (Job.hard_limit):
+        # a worker costs about a second to start.
+        runner = InProcess(work, progress)
     else:
         runner = InProcesses(work, workers, progress)
     table = None
