@@ -410,3 +410,35 @@ def test_a_restricted_input_reads_the_inputs_before_it() -> None:
     assert [type(p).__name__ for p in _prefixes(text, "E")] == ["Stop"]
     with pytest.raises(CspError, match="does not track"):
         _prefixes("R(y) = M::c?x:{y} -> STOP\n", "R", OTHER)
+
+
+def test_a_specification_names_the_values_of_a_tuple_typed_event(tmp_path: Path) -> None:
+    """AlphaAlgorithm b1's `receive.out!(x, id)` on `receive : ID * ID`. M receives y on a and sends
+    the pair (y, y) on b (core_int = -2..2). Same, which wants (y, y) back, holds in both engines;
+    Zero, which wants (y, 0), is violated after a.in.v, b.out.(v, v) for some v other than 0."""
+    rct = """
+stm M {
+  event a : int
+  event b : int * int
+  var x : int
+  initial i
+  state s {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger a?x action b!(| x, x |) }
+}
+"""
+    specs = """
+untimed csp Specs csp-begin
+Same = M::a.in?y -> M::b.out!(y, y) -> Same
+Zero = M::a.in?y -> M::b.out!(y, 0) -> Zero
+csp-end
+untimed assertion S : M refines Same in the traces model
+untimed assertion Z : M refines Zero in the traces model
+"""
+    symbolic, concrete = both(tmp_path, rct, specs)
+    for results in (symbolic, concrete):
+        assert results["S"].verdict == "holds", results["S"].reason
+        assert results["Z"].verdict == "violated", results["Z"].reason
+        shown = visible(results["Z"])
+        v = shown[0].rsplit(".", 1)[1]
+        assert v != "0" and shown == [f"M::a.in.{v}", f"M::b.out.({v}, {v})"], shown
