@@ -250,3 +250,17 @@ def test_a_worker_past_its_hard_limit_is_ended_and_its_assertion_is_unknown(tmp_
     assert "the check did not stop at its timeout (0.1 s): the worker process deciding it was ended" in (decided[0].reason or "")
     assert decided[2].verdict == "violated"  # as in one process: Counter terminates
     assert [decided[n].verdict for n in (1, 2)] == [job.decide(n).verdict for n in (1, 2)]
+
+
+def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: Path) -> None:
+    """`check` decides a single assertion in its own process; the waiting thread gives the deciding
+    thread up once the check has run past its hard limit, and says which assertion it was."""
+    from tockbmc.interrupt import decide
+
+    project = load(counter_project(tmp_path))
+    runner = InProcess([(_Stuck(configure(project), bound=12, timeout=0.1), 0)])
+    start = time.perf_counter()
+    decided = decide(runner, grace=0.2, overdue=runner.overdue)
+    assert time.perf_counter() - start < 10
+    assert decided.overran == 0 and decided.results == [] and not decided.worker_done
+    assert runner.current is not None and runner.current[0] == 0

@@ -11,6 +11,7 @@ import math
 import os
 import stat
 import sys
+import time
 from collections.abc import Callable
 from typing import NoReturn, TypeVar
 
@@ -29,7 +30,7 @@ from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
 from tockbmc.model.result import Result, exit_code
-from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, warm_up
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, overran, warm_up
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.progress import ProgressDisplay
@@ -203,7 +204,8 @@ def default_jobs() -> int:
 @click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
               help="Decide the assertions in N worker processes (default: the number of cores); 1 decides them "
                    "in this process.  The results and their order are the same, but that a worker still deciding "
-                   "at twice --timeout plus 5 s is ended (Z3 overran) and its assertion is unknown.")
+                   "at twice --timeout plus 5 s is ended (Z3 overran) and its assertion is unknown (so is a lone "
+                   "assertion; several with -j 1 have no such limit).")
 @click.option("--dask", "dask_address", default=None, metavar="ADDRESS",
               help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
                    "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
@@ -258,7 +260,13 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             print_details(results, _stdout_console())
     if decided.interrupted:
         _exit_interrupted(decided.worker_done)
-    sys.exit(exit_code(r.verdict for r in results))
+    code = exit_code(r.verdict for r in results)
+    if not decided.worker_done:  # given up at its hard limit, the deciding thread is still inside Z3
+        with contextlib.suppress(OSError):
+            sys.stdout.flush()
+            sys.stderr.flush()
+        os._exit(code)  # no interpreter shutdown under a thread that is still running Z3
+    sys.exit(code)
 
 
 def _stdout_console() -> PipeConsole:
@@ -296,8 +304,9 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
     if dask_address is not None:
         runner = OnDask(work, dask_address, progress)
     elif workers == 1 or len(work) <= 1:
-        # A single assertion (or -j 1) is decided here, without the workers' hard limit (Job.hard_limit):
-        # a worker costs about a second to start.
+        # Decided here (a worker costs about a second to start); a lone assertion is given up at its
+        # hard limit (Job.hard_limit) by the waiting thread, -j 1's several are not (the next ones
+        # would share the process with a thread still inside Z3).
         runner = InProcess(work, progress)
     else:
         runner = InProcesses(work, workers, progress)
@@ -318,12 +327,21 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
 
     with display or contextlib.nullcontext():
         try:
-            decided = decide(runner, on_item=show, stop=runner.stop)
+            watch = runner.overdue if isinstance(runner, InProcess) and len(work) == 1 else None
+            decided = decide(runner, on_item=show, stop=runner.stop, overdue=watch)
         except Unbounded as exc:
             raise click.UsageError(f"--engine explicit needs finite data: {_range_hint(exc, job.config)}") from None
         except Unreachable as exc:
             raise click.BadParameter(str(exc), param_hint="'--dask'") from None
     got = dict(decided.results)
+    if decided.overran is not None and isinstance(runner, InProcess) and runner.current is not None:
+        n = decided.overran
+        got[n] = overran(job, selected[n], time.perf_counter() - runner.current[1], in_process=True)
+        if display is not None:
+            display.decided(n, got[n])
+        if table is not None:
+            with reader_may_leave(sys.stdout):
+                table.add(n, got[n])
     ranges = job.config.ranges()
     results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]
     if table is not None:

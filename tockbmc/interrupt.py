@@ -32,10 +32,11 @@ class Decided(Generic[T]):
     results: list[T]
     interrupted: bool = False
     worker_done: bool = True
+    overran: int | None = None  # the item `overdue` named: its worker thread was given up
 
 
 def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] | None = None,
-           stop: Callable[[], None] | None = None) -> Decided[T]:
+           stop: Callable[[], None] | None = None, overdue: Callable[[], int | None] | None = None) -> Decided[T]:
     """Draw `items` (results, or anything that carries them) in a worker thread until they end or
     Ctrl-C; an exception of theirs is raised here.
 
@@ -47,6 +48,9 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
     Z3 handles Ctrl-C itself while it solves (it ends that one query as `unknown` and carries on),
     so its handler is switched off: Ctrl-C must reach Python to stop the whole run. After Ctrl-C, a
     second one ends tockbmc at once, and the worker gets `grace` seconds to stop.
+
+    `overdue`, asked as the main thread waits, names an item whose decision has run past its hard
+    limit (Z3 not stopping at its timeout): the drawing stops as on Ctrl-C, and `overran` says which.
     """
     z3.set_param("ctrl_c", False)
     drawn: list[T] = []
@@ -74,6 +78,12 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
     try:
         while not done.wait(0.05):
             hand_over(len(drawn))
+            late = overdue() if overdue is not None else None
+            if late is not None:
+                decided = list(drawn)
+                z3.main_ctx().interrupt()
+                hand_over(len(decided))
+                return Decided(decided, worker_done=done.wait(grace), overran=late)
         hand_over(len(drawn))
     except KeyboardInterrupt:
         decided = list(drawn)  # before Z3 is stopped: the query it stops would read "unknown"

@@ -109,6 +109,7 @@ class InProcess:
 
     def __init__(self, work: Work, progress: Progress | None = None):
         self.work, self.progress = work, progress
+        self.current: tuple[int, float] | None = None  # the assertion being decided, and since when
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
         for n, (job, index) in enumerate(self.work):
@@ -116,7 +117,20 @@ class InProcess:
             if self.progress is not None:
                 self.progress(n, None)
                 told = _told(self.progress, n)
-            yield n, job.decide(index, told)
+            self.current = (n, time.perf_counter())
+            result = job.decide(index, told)
+            self.current = None
+            yield n, result
+
+    def overdue(self) -> int | None:
+        """The assertion being decided, if it has run past its hard limit (`Job.hard_limit`): asked
+        from another thread, which can give the deciding thread up (`interrupt.decide`)."""
+        current = self.current
+        if current is None:
+            return None
+        n, start = current
+        limit = self.work[n][0].hard_limit()
+        return n if limit is not None and time.perf_counter() - start > limit else None
 
     def stop(self) -> None:
         """Nothing to stop: Ctrl-C stops Z3 in this process (`interrupt.decide`)."""
@@ -224,14 +238,15 @@ def warm_up() -> None:
         forkserver.ensure_running()
 
 
-def overran(job: Job, index: int, seconds: float) -> Result:
-    """The result of an assertion whose worker was ended at its hard limit (`Job.hard_limit`)."""
+def overran(job: Job, index: int, seconds: float, in_process: bool = False) -> Result:
+    """The result of an assertion given up at its hard limit (`Job.hard_limit`): its worker process
+    ended, or (`in_process`) the thread deciding it in tockbmc's own process left behind."""
     a = job.config.project.assertions[index]
+    what = "tockbmc gave it up" if in_process else "the worker process deciding it was ended"
     return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
                   ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.engine,
                   pos=str(a.pos),
-                  reason=f"the check did not stop at its timeout ({job.timeout:g} s): the worker process "
-                         f"deciding it was ended after {seconds:.0f} s")
+                  reason=f"the check did not stop at its timeout ({job.timeout:g} s): {what} after {seconds:.0f} s")
 
 
 class InProcesses:
