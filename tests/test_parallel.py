@@ -264,3 +264,25 @@ def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: P
     assert time.perf_counter() - start < 10
     assert decided.overran == 0 and decided.results == [] and not decided.worker_done
     assert runner.current is not None and runner.current[0] == 0
+
+
+class _Late(Job):
+    """A job whose check ends just past its hard limit, within the grace the waiting thread gives."""
+
+    def decide(self, index: int, progress: Any = None) -> Any:
+        time.sleep(1.4)
+        return super().decide(index, progress)
+
+    def hard_limit(self) -> float | None:
+        return 1.0
+
+
+def test_a_result_that_comes_within_the_grace_is_kept(tmp_path: Path) -> None:
+    """Review finding: a check finishing in the grace after it was given up had come out 'interrupted'."""
+    from tockbmc.interrupt import decide
+
+    project = load(counter_project(tmp_path))
+    runner = InProcess([(_Late(configure(project), bound=12, timeout=30), 2)])
+    decided = decide(runner, grace=3.0, overdue=runner.overdue)
+    assert decided.overran == 0 and decided.worker_done
+    assert [(n, r.verdict) for n, r in decided.results] == [(0, "violated")]

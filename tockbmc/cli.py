@@ -30,7 +30,7 @@ from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
 from tockbmc.model.result import Result, exit_code
-from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, overran, warm_up
+from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, overran, stop_servers, warm_up
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.progress import ProgressDisplay
@@ -262,10 +262,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         _exit_interrupted(decided.worker_done)
     code = exit_code(r.verdict for r in results)
     if not decided.worker_done:  # given up at its hard limit, the deciding thread is still inside Z3
-        with contextlib.suppress(OSError):
-            sys.stdout.flush()
-            sys.stderr.flush()
-        os._exit(code)  # no interpreter shutdown under a thread that is still running Z3
+        _exit_now(code)
     sys.exit(code)
 
 
@@ -333,15 +330,11 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
             raise click.UsageError(f"--engine explicit needs finite data: {_range_hint(exc, job.config)}") from None
         except Unreachable as exc:
             raise click.BadParameter(str(exc), param_hint="'--dask'") from None
-    got = dict(decided.results)
-    if decided.overran is not None and isinstance(runner, InProcess) and runner.current is not None:
+        got = dict(decided.results)
         n = decided.overran
-        got[n] = overran(job, selected[n], time.perf_counter() - runner.current[1], in_process=True)
-        if display is not None:
-            display.decided(n, got[n])
-        if table is not None:
-            with reader_may_leave(sys.stdout):
-                table.add(n, got[n])
+        if n is not None and n not in got and isinstance(runner, InProcess) and runner.given_up is not None:
+            got[n] = overran(job, selected[n], time.perf_counter() - runner.given_up[1], in_process=True)
+            show((n, got[n]))
     ranges = job.config.ranges()
     results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]
     if table is not None:
@@ -466,10 +459,17 @@ def _exit_interrupted(clean: bool = True) -> NoReturn:
         click.echo("tockbmc: interrupted", err=True)
     if clean:
         sys.exit(EXIT_INTERRUPTED)
+    _exit_now(EXIT_INTERRUPTED)
+
+
+def _exit_now(code: int) -> NoReturn:
+    """Exit at once, without the interpreter's shutdown, which would wait on a thread still inside Z3;
+    the output is flushed and the fork server (if `check -j` started one) ended first."""
     with contextlib.suppress(OSError):
         sys.stdout.flush()
         sys.stderr.flush()
-    os._exit(EXIT_INTERRUPTED)  # no interpreter shutdown under a thread that is still running Z3
+    stop_servers()
+    os._exit(code)
 
 
 def _run() -> None:

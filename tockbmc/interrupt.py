@@ -80,10 +80,11 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
             hand_over(len(drawn))
             late = overdue() if overdue is not None else None
             if late is not None:
-                decided = list(drawn)
                 z3.main_ctx().interrupt()
+                finished = done.wait(grace)  # a result that comes in the grace is kept
+                decided = list(drawn)
                 hand_over(len(decided))
-                return Decided(decided, worker_done=done.wait(grace), overran=late)
+                return Decided(decided, worker_done=finished, overran=late)
         hand_over(len(drawn))
     except KeyboardInterrupt:
         decided = list(drawn)  # before Z3 is stopped: the query it stops would read "unknown"

@@ -75,7 +75,9 @@ class Job:
         always stop at its timeout (its model-based quantifier instantiation can build array axioms
         for minutes without looking at the clock: differential seed 3's untimed determinism check, with
         a 2 s timeout, ran for 20 minutes), and no call stops it from outside, so the process is ended."""
-        return None if self.timeout is None else 2 * self.timeout + HARD_LIMIT_SLACK
+        if self.timeout is None or self.engine == "explicit":  # pure Python, which keeps to its deadline
+            return None
+        return 2 * self.timeout + HARD_LIMIT_SLACK
 
     def pickled(self) -> bytes:
         """The job as bytes, for a worker (a model nested to the limit pickles deeper than Python's default)."""
@@ -110,6 +112,7 @@ class InProcess:
     def __init__(self, work: Work, progress: Progress | None = None):
         self.work, self.progress = work, progress
         self.current: tuple[int, float] | None = None  # the assertion being decided, and since when
+        self.given_up: tuple[int, float] | None = None  # the one `overdue` named, and since when
 
     def __iter__(self) -> Iterator[tuple[int, Result]]:
         for n, (job, index) in enumerate(self.work):
@@ -130,7 +133,10 @@ class InProcess:
             return None
         n, start = current
         limit = self.work[n][0].hard_limit()
-        return n if limit is not None and time.perf_counter() - start > limit else None
+        if limit is None or time.perf_counter() - start <= limit:
+            return None
+        self.given_up = current
+        return n
 
     def stop(self) -> None:
         """Nothing to stop: Ctrl-C stops Z3 in this process (`interrupt.decide`)."""
@@ -203,7 +209,7 @@ def _taker(sink: Any) -> Callable[[], list[tuple[int, int | None]]]:
     return take
 
 
-def _stop_servers() -> None:
+def stop_servers() -> None:
     """End the fork server and the resource tracker, and wait for them.  Left to end when this
     process ends, they outlive it for a moment as orphans, which an init that does not reap
     (a container's) keeps as zombies in the process group (farm-bench saw them after `check -j 2`)."""
@@ -216,7 +222,7 @@ def _stop_servers() -> None:
 
 @lru_cache(maxsize=1)
 def _stop_servers_at_exit() -> None:
-    atexit.register(_stop_servers)  # once (cached)
+    atexit.register(stop_servers)  # once (cached)
 
 
 def _context() -> multiprocessing.context.BaseContext:

@@ -443,7 +443,10 @@ def field_is(term: object, value: object, named: list[object]) -> z3.BoolRef:
 def _equals(term: object, value: object) -> z3.BoolRef:
     if isinstance(term, dict):
         # a tuple's parts are named "1", "2", … (`encodings.values.parts`); a record's by its fields
-        if isinstance(value, tuple) and list(term) == [str(i) for i in range(1, len(value) + 1)]:
+        if all(k.isdigit() for k in term):  # a tuple type's parts
+            if not isinstance(value, tuple) or len(value) != len(term):
+                raise ValueError(f"the specification's value {value!r} is not a tuple of {len(term)} parts, "
+                                 "as the event's values are")
             return z3.And([_equals(term[str(i)], v) for i, v in enumerate(value, 1)])
         raise ValueError("a specification that names values of a record-typed event is not supported")
     assert isinstance(term, z3.ExprRef)
