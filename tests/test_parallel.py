@@ -3,6 +3,7 @@ the engines on a terminal only; rows printed as soon as they can be; Ctrl-C ends
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import pty
@@ -227,12 +228,16 @@ def test_dask_with_no_scheduler_there_is_a_usage_error(tmp_path: Path, monkeypat
     assert "cannot reach a Dask scheduler at tcp://127.0.0.1:1" in result.stderr
 
 
-class _Stuck(Job):
-    """A job whose worker never returns, as Z3 sometimes does not at its timeout (differential seed
-    3's untimed determinism check); a short hard limit keeps the test fast."""
+@dataclasses.dataclass(frozen=True)
+class _Slow(Job):
+    """A job whose check takes `delay` seconds before it starts: by default one that never returns in
+    time, as Z3 sometimes does not at its timeout (differential seed 3's untimed determinism check).
+    A short hard limit keeps the tests fast."""
+
+    delay: float = 120.0
 
     def decide(self, index: int, progress: Any = None) -> Any:
-        time.sleep(120)
+        time.sleep(self.delay)
         return super().decide(index, progress)
 
     def hard_limit(self) -> float | None:
@@ -242,7 +247,7 @@ class _Stuck(Job):
 def test_a_worker_past_its_hard_limit_is_ended_and_its_assertion_is_unknown(tmp_path: Path) -> None:
     """The others are decided as without it, in new workers where the old ones were ended with it."""
     project = load(counter_project(tmp_path))
-    stuck, job = _Stuck(configure(project), bound=12, timeout=0.1), Job(configure(project), bound=12)
+    stuck, job = _Slow(configure(project), bound=12, timeout=0.1), Job(configure(project), bound=12)
     start = time.perf_counter()
     decided = dict(InProcesses([(stuck, 0), (job, 1), (job, 2)], 2))
     assert time.perf_counter() - start < 30
@@ -258,7 +263,7 @@ def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: P
     from tockbmc.interrupt import decide
 
     project = load(counter_project(tmp_path))
-    runner = InProcess([(_Stuck(configure(project), bound=12, timeout=0.1), 0)])
+    runner = InProcess([(_Slow(configure(project), bound=12, timeout=0.1), 0)])
     start = time.perf_counter()
     decided = decide(runner, grace=0.2, overdue=runner.overdue)
     assert time.perf_counter() - start < 10
@@ -266,23 +271,12 @@ def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: P
     assert runner.current is not None and runner.current[0] == 0
 
 
-class _Late(Job):
-    """A job whose check ends just past its hard limit, within the grace the waiting thread gives."""
-
-    def decide(self, index: int, progress: Any = None) -> Any:
-        time.sleep(1.4)
-        return super().decide(index, progress)
-
-    def hard_limit(self) -> float | None:
-        return 1.0
-
-
 def test_a_result_that_comes_within_the_grace_is_kept(tmp_path: Path) -> None:
     """Review finding: a check finishing in the grace after it was given up had come out 'interrupted'."""
     from tockbmc.interrupt import decide
 
     project = load(counter_project(tmp_path))
-    runner = InProcess([(_Late(configure(project), bound=12, timeout=30), 2)])
+    runner = InProcess([(_Slow(configure(project), bound=12, timeout=30, delay=1.4), 2)])
     decided = decide(runner, grace=3.0, overdue=runner.overdue)
     assert decided.overran == 0 and decided.worker_done
     assert [(n, r.verdict) for n, r in decided.results] == [(0, "violated")]
