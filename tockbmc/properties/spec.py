@@ -508,14 +508,8 @@ class Evaluator:
             members = sorted(values, key=_member_order)
         else:
             raise self.error(over, "a replicated operator needs a set")
-        procs = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
-        if not procs:
-            return Stop(env.timed)
-        kind = {"|~|": "internal", "[]": "external", "|||": "parallel"}[op_text]
-        out: Proc = procs[0]
-        for p in procs[1:]:
-            out = Binary(kind, out, p, EventSet("exact") if kind == "parallel" else None, env.timed)
-        return out
+        procs: list[Proc] = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
+        return _fold({"|~|": "internal", "[]": "external", "|||": "parallel"}[op_text], procs, env.timed)
 
     # --- typed views
 
@@ -590,13 +584,7 @@ class Evaluator:
                 combos = [((*e, Input(str(arg), str(arg) in read)), b) for e, b in combos]
             else:
                 combos = [((*e, self.field(arg, Env(b, {}, env.timed, env))), b) for e, b in combos]
-        procs: list[Proc] = [Prefix(e, then, Env(b, {}, env.timed, env), env.timed) for e, b in combos]
-        if not procs:
-            return Stop(env.timed)
-        out = procs[0]
-        for q in procs[1:]:
-            out = Binary("external", out, q, None, env.timed)
-        return out
+        return _fold("external", [Prefix(e, then, Env(b, {}, env.timed, env), env.timed) for e, b in combos], env.timed)
 
     def pattern(self, t: Tree, env: Env, read: frozenset[str] = frozenset()) -> tuple:
         """An event with its inputs (`?x`); `read` holds the names what follows the prefix reads."""
@@ -613,6 +601,16 @@ class Evaluator:
             out.append(Input(str(arg), str(arg) in read) if kind == "?" else self.field(arg, env))
             i += 2
         return tuple(out)
+
+
+def _fold(kind: str, procs: list[Proc], timed: bool) -> Proc:
+    """`procs` under a replicated operator (internal or external choice, interleaving); none is STOP."""
+    if not procs:
+        return Stop(timed)
+    out = procs[0]
+    for p in procs[1:]:
+        out = Binary(kind, out, p, EventSet("exact") if kind == "parallel" else None, timed)
+    return out
 
 
 def _div(a: int, b: int) -> int:
