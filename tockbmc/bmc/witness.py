@@ -15,7 +15,7 @@ from tockbmc.encodings.unroller import Unroller
 from tockbmc.encodings.values import Value, leaf_type, leaves, parts
 from tockbmc.model import ast
 from tockbmc.model.config import declaration_key, instance_key
-from tockbmc.model.data import Product, text_of
+from tockbmc.model.data import Product, Variant, text_of
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.numbers import real_text
 from tockbmc.model.result import TraceStep
@@ -24,7 +24,7 @@ from tockbmc.properties.process import MonitorExtension
 
 def scalar_text(term: z3.ExprRef, model: z3.ModelRef, t: ast.Type) -> str:
     v = model.eval(term, model_completion=True)
-    if isinstance(t, (ast.SeqType, ast.SetType)):
+    if isinstance(t, (ast.SeqType, ast.SetType)) or (isinstance(t, ast.EnumType) and t.params):
         return text_of(t, term_value(v, t))
     if isinstance(t, ast.EnumType):
         i = v.as_long()
@@ -47,7 +47,7 @@ def python_value(value: Value, model: z3.ModelRef, t: ast.Type) -> object:
         return {f: python_value(value[f], model, ft) for f, ft in parts(t)}
     assert not isinstance(value, dict)
     v = model.eval(value, model_completion=True)
-    if isinstance(t, (ast.SeqType, ast.SetType)):
+    if isinstance(t, (ast.SeqType, ast.SetType)) or (isinstance(t, ast.EnumType) and t.params):
         return term_value(v, t)
     if isinstance(t, ast.EnumType):
         i = v.as_long()
@@ -84,6 +84,15 @@ def term_value(v: z3.ExprRef, t: ast.Type) -> object:
         assert isinstance(sort, z3.DatatypeSortRef)
         fields = {f: term_value(v.arg(i), ft) for i, (f, ft) in enumerate(parts(t))}
         return fields if isinstance(t, ast.RecordType) else Product(fields.values())
+    if isinstance(t, ast.EnumType) and t.params:
+        sort = v.sort()
+        assert isinstance(sort, z3.DatatypeSortRef)
+        for i, lit in enumerate(t.literals):
+            if v.decl() == sort.constructor(i):
+                name = f"{t.name}::{lit}"
+                ps = t.params[i]
+                return Variant((name, *(term_value(v.arg(j), pt) for j, pt in enumerate(ps)))) if ps else name
+        raise Unsupported(ast.Pos("<model>", 1, 1), f"a value Z3 gave as {v}")
     if isinstance(t, ast.EnumType):
         i = v.as_long()  # type: ignore[attr-defined]
         return f"{t.name}::{t.literals[i]}" if 0 <= i < len(t.literals) else i
@@ -128,7 +137,7 @@ def _members(v: z3.ExprRef, t: ast.SetType) -> list[object]:
 
 def _finite_values(t: ast.Type) -> list[z3.ExprRef] | None:
     """Every value of a type with finitely many, as terms (an enumeration's literals are 0, 1, …)."""
-    if isinstance(t, ast.EnumType):
+    if isinstance(t, ast.EnumType) and not t.params:
         return [z3.IntVal(i) for i in range(len(t.literals))]
     if t == ast.BOOLEAN:
         return [z3.BoolVal(False), z3.BoolVal(True)]

@@ -33,6 +33,8 @@ def sort_of(t: ast.Type) -> z3.SortRef:
         return z3.BoolSort()
     if t == ast.REAL:
         return z3.RealSort()
+    if isinstance(t, ast.EnumType) and t.params:
+        return _variants(t)
     if t in (ast.INT, ast.NAT) or isinstance(t, (ast.EnumType, ast.GivenType)):
         return z3.IntSort()
     if isinstance(t, ast.SeqType):
@@ -59,6 +61,26 @@ def _datatype(t: ast.RecordType | ast.ProductType) -> z3.DatatypeSortRef:
         dt.declare(f"mk {name}", *[(f"{name}.{f}", sort_of(ft)) for f, ft in parts(t)])
         kept[t] = dt.create()
     return kept[t]
+
+
+def _variants(t: ast.EnumType) -> z3.DatatypeSortRef:
+    """An enumeration with parameterised literals as a Z3 datatype: one constructor per literal, in
+    declaration order, whose fields are the literal's parameters (`EM3(nat)`: `EM3` with field
+    `EM3.1`); made once per context, as `_datatype`'s are."""
+    ctx = z3.main_ctx()
+    kept: dict[ast.Type, z3.DatatypeSortRef] = ctx.__dict__.setdefault("tockbmc_datatypes", {})
+    if t not in kept:
+        dt = z3.Datatype(t.qname)
+        for lit, params in zip(t.literals, t.params, strict=True):
+            dt.declare(f"{t.qname}::{lit}", *[(f"{t.qname}::{lit}.{i}", sort_of(pt)) for i, pt in enumerate(params, 1)])
+        kept[t] = dt.create()
+    return kept[t]
+
+
+def variant(t: ast.EnumType, literal: str, args: list[Value]) -> z3.ExprRef:
+    """The value `literal(args…)` of an enumeration with parameterised literals."""
+    i = t.literals.index(literal)
+    return _variants(t).constructor(i)(*[pack(a, pt) for a, pt in zip(args, t.params[i], strict=True)])
 
 
 def _qualified(t: ast.Type) -> str:
@@ -164,6 +186,15 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
         # uninterpreted function's are: exact, since only applied points matter, and free of the
         # quantifier `forall x @ f(x) in T`, on which Z3 timed out at depth 2 (LambdaExpVarTest).
         return []
+    if isinstance(t, ast.EnumType) and t.params:
+        # Each literal's parameters in their types and ranges, when the value is that literal.
+        sort = _variants(t)
+        for i, (lit, params) in enumerate(zip(t.literals, t.params, strict=True)):
+            inner = [c for j, pt in enumerate(params)
+                     for c in domain(unpack(sort.accessor(i, j)(v), pt), pt, ranges, f"{path}.{lit}.{j + 1}")]
+            if inner:
+                cs.append(z3.Implies(sort.recognizer(i)(v), z3.And(inner)))
+        return cs
     if t == ast.NAT:
         cs.append(v >= 0)
     if isinstance(t, ast.EnumType):
@@ -287,6 +318,8 @@ class Evaluator:
                 return z3.IntVal(e.value)
             raise Unsupported(e.pos, "string values are not encoded yet")
         if isinstance(e, ast.EnumLiteral):
+            if e.enum.params:
+                return variant(e.enum, e.literal, operands)
             return z3.IntVal(e.enum.literals.index(e.literal))
         if isinstance(e, ast.VarRef):
             key = id(e.variable)
@@ -497,6 +530,8 @@ def _operands(e: ast.Expr) -> tuple[ast.Expr, ...]:
         return (e.value,)
     if isinstance(e, ast.Apply):
         return (e.function, *e.args)
+    if isinstance(e, ast.EnumLiteral):
+        return e.args
     return ()
 
 
@@ -636,7 +671,7 @@ def _set_size(e: ast.Builtin, st: ast.SetType, a: z3.ExprRef, ranges: Ranges) ->
     sets have no cardinality, and arithmetic takes numbers out of any range, so a set of numbers is
     `unsupported`."""
     t = st.element
-    if isinstance(t, ast.EnumType):
+    if isinstance(t, ast.EnumType) and not t.params:
         values: list[z3.ExprRef] = [z3.IntVal(i) for i in range(len(t.literals))]
     elif t == ast.BOOLEAN:
         values = [z3.BoolVal(False), z3.BoolVal(True)]

@@ -27,6 +27,7 @@ from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, 
 from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
+from tockbmc.model.data import Variant
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
@@ -73,6 +74,8 @@ def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
     def python(name: str, e: ast.Expr) -> object:
         if isinstance(e, ast.Literal):
             return e.value
+        if isinstance(e, ast.EnumLiteral) and e.args:
+            return Variant((f"{e.enum.name}::{e.literal}", *(python(name, a) for a in e.args)))
         if isinstance(e, ast.EnumLiteral):
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.RecordLiteral):

@@ -110,7 +110,7 @@ from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
 from tockbmc.model.config import instance_key
-from tockbmc.model.data import Product, text_of
+from tockbmc.model.data import Product, Variant, text_of
 from tockbmc.model.untimed import untimed
 
 # ----------------------------------------------------------------------------- public values
@@ -330,7 +330,9 @@ def fill(v: object, chosen: dict[int, object]) -> object:
 
 
 def _same_kind(v: tuple, items: Iterable[object]) -> tuple:
-    """`items` as a tuple of the kind of `v` (a `Product` stays one)."""
+    """`items` as a tuple of the kind of `v` (a `Product` or a `Variant` stays one)."""
+    if isinstance(v, Variant):
+        return Variant(items)
     return Product(items) if isinstance(v, Product) else tuple(items)
 
 
@@ -509,6 +511,8 @@ def _fits(t: ast.Type | None, v: object) -> bool:
         return all(_fits(t.element, x) for x in v)
     if isinstance(t, ast.ProductType) and isinstance(v, tuple):
         return all(_fits(pt, x) for pt, x in zip(t.parts, v, strict=True))
+    if isinstance(t, ast.EnumType) and isinstance(v, Variant):
+        return all(_fits(pt, x) for pt, x in zip(t.parameters(v.literal.rsplit("::", 1)[-1]), v.args, strict=True))
     return True
 
 
@@ -716,9 +720,6 @@ class Interpreter:
         # RoboTool's untimed semantics (docs/semantics.md §7.11): the model as `model.untimed`
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
-        enum = ast.parameterised_enumeration((element, defined))
-        if enum is not None:
-            raise NotInterpretable(enum.parameterised, f"enumeration {enum.name} has literals with parameters")
         if not timed:
             element, defined = untimed(element, defined)
         self.element = element
@@ -1160,7 +1161,12 @@ class Interpreter:
         elif t == ast.BOOLEAN:
             d = [False, True]
         elif isinstance(t, ast.EnumType):
-            d = [f"{t.name}::{lit}" for lit in t.literals]
+            d = []
+            for lit in t.literals:
+                ps = t.parameters(lit)
+                name = f"{t.name}::{lit}"
+                parts = [self.domain(pt, tuple(f"{p}.{lit}.{i}" for p in paths)) for i, pt in enumerate(ps, 1)]
+                d += [Variant((name, *combo)) for combo in itertools.product(*parts)] if ps else [name]
         elif isinstance(t, ast.RecordType):
             parts = [self.domain(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields]
             d = [Record(zip([f.name for f in t.fields], combo, strict=True)) for combo in itertools.product(*parts)]
@@ -1217,11 +1223,11 @@ class Interpreter:
             return 1
         if t == ast.BOOLEAN:
             return 2
-        if isinstance(t, ast.EnumType):
+        if isinstance(t, ast.EnumType) and not t.params:
             return len(t.literals)
         if isinstance(t, ast.RecordType):
             return math.prod(self._size(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields)
-        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType, ast.FunctionType)):
+        if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType, ast.FunctionType, ast.EnumType)):
             return len(self.domain(t, paths))
         lo, hi = self._bounds(t, paths)
         return max(0, hi - lo + 1)
@@ -1234,8 +1240,13 @@ class Interpreter:
             return None
         if t == ast.BOOLEAN:
             return rng.choice((False, True))
-        if isinstance(t, ast.EnumType):
+        if isinstance(t, ast.EnumType) and not t.params:
             return f"{t.name}::{rng.choice(t.literals)}"
+        if isinstance(t, ast.EnumType):
+            lit = rng.choice(t.literals)
+            ps = t.parameters(lit)
+            args = [self._draw(pt, tuple(f"{p}.{lit}.{i}" for p in paths)) for i, pt in enumerate(ps, 1)]
+            return Variant((f"{t.name}::{lit}", *args)) if ps else f"{t.name}::{lit}"
         if isinstance(t, ast.RecordType):
             return Record({f.name: self._draw(f.type, tuple(f"{p}.{f.name}" for p in paths)) for f in t.fields})
         if isinstance(t, (ast.ProductType, ast.SeqType, ast.SetType, ast.FunctionType)):
@@ -1373,6 +1384,10 @@ class Interpreter:
                 return a - b * _ediv(a, b)
             raise NotInterpretable(e.pos, f"operator {op}")
         if isinstance(e, ast.EnumLiteral):
+            if e.args:
+                ps = e.enum.parameters(e.literal)
+                return Variant((f"{e.enum.name}::{e.literal}",
+                                *(_coerce(pt, self._ev(ctx, a)) for pt, a in zip(ps, e.args, strict=True))))
             return f"{e.enum.name}::{e.literal}"
         if isinstance(e, ast.FieldRef):
             r = self._eval_ref(ctx, e.record) if self.lazy else self._ev(ctx, e.record)

@@ -62,13 +62,18 @@ class GivenType(Type):
 
 @dataclass(frozen=True)
 class EnumType(Type):
-    """An `enumeration E { A B }`.  `parameterised`: where a literal with parameters (`B(real)`, an
-    algebraic datatype) is declared; such an enumeration loads, and a check that meets it is
-    `unsupported` (`parameterised_enumeration`)."""
+    """An `enumeration E { A B(real) C(nat, E2) }`: `params` gives each literal's parameter types (none
+    for `A`).  An enumeration with a literal that has parameters is an algebraic datatype
+    (docs/semantics.md §6.5); `parameterised` is where the first such literal is declared."""
 
     qname: str
     literals: tuple[str, ...]
     parameterised: Pos | None = field(default=None, compare=False)
+    params: tuple[tuple[Type, ...], ...] = field(default=(), compare=False)
+
+    def parameters(self, literal: str) -> tuple[Type, ...]:
+        """The parameter types of `literal` (none for a literal without parameters)."""
+        return self.params[self.literals.index(literal)] if self.params else ()
 
     @property
     def name(self) -> str:
@@ -412,8 +417,11 @@ class Literal(Expr):
 
 @dataclass(frozen=True)
 class EnumLiteral(Expr):
+    """A literal of an enumeration, with its arguments if the literal has parameters (`EM3(1)`)."""
+
     enum: EnumType
     literal: str
+    args: tuple[Expr, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -1015,24 +1023,3 @@ class Project:
                 if item.qname == qname:
                     return item
         return None
-
-
-def parameterised_enumeration(root: object) -> EnumType | None:
-    """An enumeration with parameterised literals met anywhere in `root` (an element: its
-    declarations, types and expressions), else None."""
-    seen: set[int] = set()
-    todo = [root]
-    while todo:
-        x = todo.pop()
-        if id(x) in seen or x is None or isinstance(x, (str, int, float, bool, Fraction)):
-            continue
-        seen.add(id(x))
-        if isinstance(x, EnumType) and x.parameterised is not None:
-            return x
-        if isinstance(x, (tuple, list, frozenset, set)):
-            todo.extend(x)
-        elif isinstance(x, dict):
-            todo.extend(x.values())
-        elif hasattr(x, "__dataclass_fields__"):
-            todo.extend(getattr(x, f) for f in x.__dataclass_fields__)
-    return None

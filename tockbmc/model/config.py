@@ -152,7 +152,10 @@ def default_value(t: ast.Type, pos: ast.Pos) -> ast.Expr | None:
     if t == ast.BOOLEAN:
         return ast.Literal(ast.BOOLEAN, pos, True)
     if isinstance(t, ast.EnumType) and t.literals:
-        return ast.EnumLiteral(t, pos, t, t.literals[0])
+        args = [default_value(pt, pos) for pt in t.parameters(t.literals[0])]
+        if any(a is None for a in args):
+            return None
+        return ast.EnumLiteral(t, pos, t, t.literals[0], tuple(a for a in args if a is not None))
     if isinstance(t, ast.RecordType):
         fields = [(f.name, default_value(f.type, pos)) for f in t.fields]
         if all(v is not None for _, v in fields):
@@ -169,7 +172,8 @@ def describe_value(e: ast.Expr) -> str:
             return _num(e.value)
         return str(e.value)
     if isinstance(e, ast.EnumLiteral):
-        return f"{e.enum.name}::{e.literal}"
+        args = f"({', '.join(describe_value(a) for a in e.args)})" if e.args else ""
+        return f"{e.enum.name}::{e.literal}{args}"
     if isinstance(e, ast.RecordLiteral):
         return "(" + ", ".join(f"{n}={describe_value(v)}" for n, v in e.fields) + ")"
     if isinstance(e, ast.Unary) and e.op == "-":
@@ -202,6 +206,9 @@ def _value_of_text(text: str, t: ast.Type, name: str) -> ast.Expr:
         short = text.rsplit("::", 1)[-1]
         qualifier = text.rpartition("::")[0]
         if short in t.literals and qualifier in ("", t.name, t.qname):
+            if t.parameters(short):
+                raise ConfigError(f"{name} is a {t.name}: literal {short} has parameters, and only literals without "
+                                  "parameters can be set here")
             return ast.EnumLiteral(t, pos, t, short)
         known = [f"{t.name}::{lit}" for lit in t.literals]
         raise ConfigError(f"{name} is a {t.name}: no literal '{text}'{suggestion(text, known + list(t.literals))} "
@@ -455,6 +462,19 @@ class Names:
             return name
         return f"{declaration_key(found[0])}{dot}{fields}"
 
+    @staticmethod
+    def _argument_type(t: ast.EnumType, walked: str, literal: str, index: str) -> ast.Type:
+        """The type of argument `index` (from 1) of literal `literal` of `t`, in a range path."""
+        with_params = [lit for lit, ps in zip(t.literals, t.params, strict=True) if ps]
+        if literal not in with_params:
+            raise ConfigError(f"'{walked}' is of type {t}, which has no literal '{literal}' with parameters"
+                              f"{suggestion(literal, with_params)}", "--range")
+        ps = t.parameters(literal)
+        if not index.isdigit() or not 1 <= int(index) <= len(ps):
+            raise ConfigError(f"'{walked}.{literal}' needs the number of an argument of {literal}, 1 to {len(ps)}",
+                              "--range")
+        return ps[int(index) - 1]
+
     def _path_type(self, name: str) -> ast.Type:
         head, _, fields = name.partition(".")
         owner, _, member = head.rpartition("::")
@@ -474,7 +494,13 @@ class Names:
         if t is None:
             raise ConfigError(f"'{head}' carries no value to bound", "--range")
         walked = head
-        for f in [x for x in fields.split(".") if x] if fields else []:
+        steps = [x for x in fields.split(".") if x] if fields else []
+        while steps:
+            f = steps.pop(0)
+            if isinstance(t, ast.EnumType) and t.params:  # `x.EM3.1`: literal EM3's first argument
+                index = steps.pop(0) if steps else ""
+                t, walked = self._argument_type(t, walked, f, index), f"{walked}.{f}.{index}"
+                continue
             if not isinstance(t, ast.RecordType):
                 raise ConfigError(f"'{walked}' is of type {t}, which has no field '{f}'", "--range")
             ft = t.field_type(f)

@@ -168,7 +168,7 @@ class ExprChecker:
             return literal
         enum = self.scope.resolve_global(name, "enum_literal")
         if isinstance(enum, ast.EnumType):  # RoboChart also accepts a literal's bare name
-            return ast.EnumLiteral(enum, p, enum, name)
+            return self._bare_literal(p, enum, name)
         function = self.scope.resolve_global(name, "function")
         if isinstance(function, ast.Function) and not function.generic and function.parameters:
             return function_value(function, p)
@@ -178,6 +178,15 @@ class ExprChecker:
         known = list(self.scope.variables) + self.scope.global_names("enum_literal")
         self._unknown(node, "name", name, known)
         return ast.Literal(ERROR, p, 0)
+
+    def _bare_literal(self, p: Pos, enum: ast.EnumType, literal: str) -> ast.Expr:
+        """A literal named without arguments: an error if it has parameters (`EM3` for `EM3(nat)`)."""
+        wanted = enum.parameters(literal)
+        if wanted:
+            self.report(p, f"'{literal}' takes {len(wanted)} argument(s) ({', '.join(map(str, wanted))}): "
+                           f"write {literal}(…)")
+            return ast.Literal(ERROR, p, 0)
+        return ast.EnumLiteral(enum, p, enum, literal)
 
     def _is_literal(self, name: str) -> bool:
         """Whether `name` (`L` or `E::L`) names an enumeration literal."""
@@ -194,7 +203,7 @@ class ExprChecker:
         enum = self.scope.resolve_global(type_name, "type")
         if isinstance(enum, ast.EnumType):
             if literal in enum.literals:
-                return ast.EnumLiteral(enum, p, enum, literal)
+                return self._bare_literal(p, enum, literal)
             self.report(p, f"enumeration {enum.name} has no literal '{literal}'"
                         f"{suggestion(literal, list(enum.literals))}")
             return ast.Literal(ERROR, p, 0)
@@ -363,10 +372,14 @@ class ExprChecker:
             elif self._is_literal(name):
                 enum = (self.scope.resolve_global(name, "enum_literal") if "::" not in name
                         else self.scope.resolve_global(name.rpartition("::")[0], "type"))
-                if isinstance(enum, ast.EnumType) and enum.parameterised is not None:
-                    for a in args_nodes:  # their types are not checked against the literal's parameters
-                        self.expr(a)
-                    return ast.EnumLiteral(enum, p, enum, name.rpartition("::")[2])
+                literal = name.rpartition("::")[2]
+                if isinstance(enum, ast.EnumType) and enum.parameters(literal):
+                    params = tuple(ast.Variable(str(i), t, False, enum.qname, p)
+                                   for i, t in enumerate(enum.parameters(literal), 1))
+                    args = self._arguments(node, name, args_nodes, params)
+                    if any(isinstance(a.type, ast.ErrorType) for a in args) or len(args) != len(params):
+                        return ast.Literal(ERROR, p, 0)
+                    return ast.EnumLiteral(enum, p, enum, literal, args)
                 self.error(callee, f"'{name}' is an enumeration literal without parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")

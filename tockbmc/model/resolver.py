@@ -206,16 +206,20 @@ class Resolver:
             if decl.kind == "primitive_type":
                 return ast.GivenType(decl.qname)
             if decl.kind == "enumeration":
-                literals = []
+                literals: list[str] = []
+                params: list[tuple[ast.Type, ...]] = []
                 parameterised = None
                 for lit in tree.children[1:]:
                     token = lit.children[0]
                     if len(lit.children) > 1 and parameterised is None:
-                        parameterised = pos_of(scope.path, lit)  # loads; a check that meets it is unsupported
+                        parameterised = pos_of(scope.path, lit)
                     if str(token) in literals:
                         self.error(scope.path, token, f"duplicate literal '{token}'")
+                        continue
                     literals.append(str(token))
-                return ast.EnumType(decl.qname, tuple(literals), parameterised)
+                    params.append(tuple(self.type_of(scope, c) for c in lit.children[1:]))
+                return ast.EnumType(decl.qname, tuple(literals), parameterised,
+                                    tuple(params) if parameterised is not None else ())
             fields = []
             seen = set()
             for f in tree.children[1:]:

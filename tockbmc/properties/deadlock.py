@@ -239,7 +239,7 @@ def unbounded_loops(system: TransitionSystem) -> str | None:
     if not any(isinstance(e, LoopWatch) for e in system.extensions):
         return None  # no lasso is searched for: the data-free graph has no cycle of internal steps
     numeric = sorted(base for base, (t, *_rest) in system.initial.items()
-                     if not (t == ast.BOOLEAN or isinstance(t, ast.EnumType)))
+                     if not (t == ast.BOOLEAN or (isinstance(t, ast.EnumType) and not t.params)))
     if not numeric:
         return None
     return (f"no proof for every length is attempted: {', '.join(numeric[:3])}{' …' if len(numeric) > 3 else ''} "

@@ -30,7 +30,8 @@ def expr_text(e: ast.Expr, parent: int = 0) -> str:
     if isinstance(e, ast.Literal):
         return value_text(e.value)
     if isinstance(e, ast.EnumLiteral):
-        return f"{e.enum.name}::{e.literal}"
+        args = f"({', '.join(expr_text(a) for a in e.args)})" if e.args else ""
+        return f"{e.enum.name}::{e.literal}{args}"
     if isinstance(e, ast.VarRef):
         return e.variable.name
     if isinstance(e, ast.ResultRef):

@@ -106,6 +106,8 @@ def _type(t: ast.Type) -> Data:
         data.update(kind="record", fields=[{"name": f.name, "type": str(f.type)} for f in t.fields])
     elif isinstance(t, ast.EnumType):
         data.update(kind="enumeration", literals=list(t.literals))
+        if t.params:
+            data["parameters"] = {lit: [str(pt) for pt in ps] for lit, ps in zip(t.literals, t.params, strict=True) if ps}
     else:
         data.update(kind="type")
     return data
