@@ -52,21 +52,34 @@ DATA_CONDITIONS = ["size(s) < 2", "x in u", "p[2]", "size(s) > 0 /\\ head(s) == 
                    "elems(s) == u", "p == (| x, true |)", "f(x) > 0", "x in {k : int | k > 0}",
                    "1 in {k : int | k in u @ k + 1}"]
 DATA_TRIGGERS = ["d?s", "d.<1>"]
+# With `enums`: an enumeration whose literals take parameters (an algebraic datatype), in a
+# variable and on an event, built, compared and received (ten values with core_int=-1..1).
+ENUM_TYPE = "enumeration V { V0 V1(int) V2(boolean, int) }\n"
+ENUM_DECLARATIONS = ["  var v : V = V1(0)", "  event g : V"]
+ENUM_STATEMENTS = ["v = V1(x)", "v = V2(x > 0, -x)", "v = V0", "g!v", "g!V2(true, x)"]
+ENUM_CONDITIONS = ["v == V1(x)", "v != V0", "v == V2(false, 0) \\/ v == V1(1)", "v != V1(-x)"]
+ENUM_TRIGGERS = ["g?v", "g.V0"]
 DATA_RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))},
                      {"M::d": Range(Fraction(0), Fraction(2))})
 
 
 def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
-                 name: str = "M", data: bool = False) -> tuple[str, list[str]]:
+                 name: str = "M", data: bool = False, enums: bool = False) -> tuple[str, list[str]]:
     """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose.
-    With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …)."""
+    With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …); with
+    `enums`, a value of an enumeration whose literals take parameters (`ENUM_STATEMENTS`, …)."""
     statements = STATEMENTS + DATA_STATEMENTS if data else STATEMENTS
     conditions = CONDITIONS + DATA_CONDITIONS if data else CONDITIONS
+    triggers = ["", "a?x", "c", "a.1", "c <{1}", *(DATA_TRIGGERS if data else [])]
+    if enums:
+        statements, conditions, triggers = (statements + ENUM_STATEMENTS, conditions + ENUM_CONDITIONS,
+                                            triggers + ENUM_TRIGGERS)
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
     composite = number(0, 1) == 1
     lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
-             "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []), "  initial i"]
+             "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []),
+             *(ENUM_DECLARATIONS if enums else []), "  initial i"]
     for s in states:
         entry = f" entry {pick(statements)}" if number(0, 1) else ""
         if s == "S0" and composite:
@@ -90,7 +103,7 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
         dst = pick(targets)
         parts = [f"from {src} to {dst}"]
         if src != "J":
-            trigger = pick(["", "a?x", "c", "a.1", "c <{1}", *(DATA_TRIGGERS if data else [])])
+            trigger = pick(triggers)
             if trigger:
                 parts.append(f"trigger {trigger}")
         if number(0, 1) or src == "J":
@@ -101,12 +114,13 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
     if "J" in targets and not any("from J " in line for line in lines):
         lines.append(f"  transition tj {{ from J to {states[0]} }}")
     lines.append("}")
-    return "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states
+    return (ENUM_TYPE if enums else "") + "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states
 
 
-def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
+def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
+                      enums: bool = False) -> tuple[str, list[str]]:
     """A random machine with sequences, sets and tuples among its data (`machine_text`)."""
-    rct, states = machine_text(pick, number, data=True)
+    rct, states = machine_text(pick, number, data=True, enums=enums)
     return "import sequence_toolkit::*\nimport set_toolkit::*\n" + rct, states
 
 
@@ -502,7 +516,7 @@ def _visible(r: Result) -> int:
 
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
                 untimed: bool = False, tick_tock: bool = False, operations: bool = False,
-                bidirectional: bool = False) -> tuple[str, str]:
+                bidirectional: bool = False, enums: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
     with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
     with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
@@ -511,11 +525,13 @@ def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data:
     `Mop(k : int)`, checked on its own (`operation_text`, `operation_assertions`); with
     `bidirectional`, a controller's boundary connection on a or b is `[ mult ]`
     (`network_text`, `bidirectional_assertions`).  Their draws come after all the others, so that
-    without them a seed's case is as before."""
+    without them a seed's case is as before.  With `enums`, the case is a machine (never a
+    controller) with a value of an enumeration whose literals take parameters (`ENUM_TYPE`)."""
     rng = random.Random(seed)
-    network = not data and rng.random() < controllers
+    network = not data and not enums and rng.random() < controllers
     make = data_machine_text if data else network_text if network else machine_text
     rct, states = (network_text(rng.choice, rng.randint, bidirectional) if network and bidirectional
+                   else make(rng.choice, rng.randint, enums=True) if enums  # type: ignore[call-arg]
                    else make(rng.choice, rng.randint))
     assertions = assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)
     if network and bidirectional:

@@ -88,6 +88,18 @@ def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> No
     _agree(*case, ranges=_cases.DATA_RANGES)
 
 
+# An enumeration whose literals take parameters, built, compared, sent and received (issue 15).
+def _enum_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
+    return machine_text(pick, number, enums=True)
+
+
+@_settings(1)
+@given(cases(_enum_machine_text, specs=True))
+def test_engines_agree_on_random_machines_with_parameterised_enumerations(case: tuple[str, str]) -> None:
+    assert "enumeration V" in case[0]
+    _agree(*case)
+
+
 # The untimed forms and refinements in the failures models (docs/semantics.md §7.11, §7.12) alone,
 # fourteen assertions a machine, about 4 s a case (`benchmarks/differential.py --untimed` runs more,
 # with the timed forms: 120 cases, 2,517 definite comparisons, all agreeing).
