@@ -1,7 +1,7 @@
 """Random small machines checked by BMC and by the explicit engine: how many agree.
 
 Run: python benchmarks/differential.py [--cases 1000] [--seed 0] [--jobs 2] [--timeout 5] [--controllers 0.25]
-[--specs] [--data] [--untimed] [--tick-tock] [--operations] [--bidirectional] [--enums]
+[--specs] [--data] [--untimed] [--tick-tock] [--operations] [--bidirectional] [--enums] [--durings]
 Each case is a random state machine, or (`--controllers`, one in four) a controller of two or three of them
 (benchmarks/differential_cases.py), with nine assertions of the supported forms (and with `--specs` five
 refinements of specifications that tell values of its events apart; with `--untimed`, seven untimed
@@ -18,8 +18,10 @@ reachability and five traces refinements over `OP_Mop::…` events, with `k` set
 `--bidirectional`, one boundary connection of each controller is `[ mult ]` (§5.3), its machine both
 sending and receiving on it, and four traces refinements tell that event's two directions apart.
 With `--enums`, every case is a machine holding, sending and receiving a value of an enumeration
-whose literals take parameters (`enumeration V { V0 V1(int) V2(boolean, int) }`).
-Without these three flags a seed's case is as it was before them.  Definite outcomes are compared, counterexample lengths
+whose literals take parameters (`enumeration V { V0 V1(int) V2(boolean, int) }`); with `--durings`,
+every case is a machine whose composite state has a during action, which runs beside its children
+as they move between them (docs/semantics.md §4.1).
+Without these four flags a seed's case is as it was before them.  Definite outcomes are compared, counterexample lengths
 included (see that module); every disagreement is printed with its seed, so that
 `random_case(seed)` reproduces it.
 """
@@ -42,11 +44,11 @@ from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa
 import tockbmc  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
-    seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional, enums = job
+def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
+    seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional, enums, durings = job
     # past the timeout an outcome is unknown
     rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock, operations, bidirectional,
-                                  enums)
+                                  enums, durings)
     try:
         return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
     except tockbmc.ModelError:
@@ -76,6 +78,8 @@ def main() -> None:
                         help="make one boundary connection of a controller bidirectional ([ mult ])")
     parser.add_argument("--enums", action="store_true",
                         help="machines with a value of an enumeration whose literals take parameters")
+    parser.add_argument("--durings", action="store_true",
+                        help="machines whose composite state has a during action, beside its children")
     parser.add_argument("--log", type=Path, default=None,
                         help="append each case's outcome to this file (JSON lines: commit, options, seed, counts, "
                              "disagreements); a case already there for this commit and these options is not run "
@@ -93,7 +97,7 @@ def main() -> None:
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
     seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
-              args.operations, args.bidirectional, args.enums) for seed in range(args.seed, args.seed + args.cases)
+              args.operations, args.bidirectional, args.enums, args.durings) for seed in range(args.seed, args.seed + args.cases)
              if seed not in logged]
     if logged:
         print(f"{args.cases - len(seeds)} of the {args.cases} cases are in {args.log} already", flush=True)

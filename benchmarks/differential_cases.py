@@ -59,15 +59,19 @@ ENUM_DECLARATIONS = ["  var v : V = V1(0)", "  event g : V"]
 ENUM_STATEMENTS = ["v = V1(x)", "v = V2(x > 0, -x)", "v = V0", "g!v", "g!V2(true, x)"]
 ENUM_CONDITIONS = ["v == V1(x)", "v != V0", "v == V2(false, 0) \\/ v == V1(1)", "v != V1(-x)"]
 ENUM_TRIGGERS = ["g?v", "g.V0"]
+# With `durings`: the composite state's during action, which runs beside its children (§4.1).
+DURING_ACTIONS = ["wait(1) ; x = 1", "b!x", "x = -x ; c", "wait(1) ; b!(x + 1)", "op(x) ; x = 0", "a?x", "wait(2)"]
 DATA_RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))},
                      {"M::d": Range(Fraction(0), Fraction(2))})
 
 
 def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
-                 name: str = "M", data: bool = False, enums: bool = False) -> tuple[str, list[str]]:
+                 name: str = "M", data: bool = False, enums: bool = False,
+                 durings: bool = False) -> tuple[str, list[str]]:
     """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose.
     With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …); with
-    `enums`, a value of an enumeration whose literals take parameters (`ENUM_STATEMENTS`, …)."""
+    `enums`, a value of an enumeration whose literals take parameters (`ENUM_STATEMENTS`, …); with
+    `durings`, its composite state (always there) has a during action (`DURING_ACTIONS`)."""
     statements = STATEMENTS + DATA_STATEMENTS if data else STATEMENTS
     conditions = CONDITIONS + DATA_CONDITIONS if data else CONDITIONS
     triggers = ["", "a?x", "c", "a.1", "c <{1}", *(DATA_TRIGGERS if data else [])]
@@ -76,16 +80,18 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
                                             triggers + ENUM_TRIGGERS)
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
-    composite = number(0, 1) == 1
+    composite = number(0, 1) == 1 or durings
     lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
              "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []),
              *(ENUM_DECLARATIONS if enums else []), "  initial i"]
     for s in states:
         entry = f" entry {pick(statements)}" if number(0, 1) else ""
         if s == "S0" and composite:
-            lines += [f"  state S0 {{{entry}", "    initial j", "    state In {}", "    state Out {}",
+            during = [f"    during {pick(DURING_ACTIONS)}"] if durings else []
+            lines += [f"  state S0 {{{entry}", *during, "    initial j", "    state In {}", "    state Out {}",
                       "    transition u0 { from j to In }",
-                      f"    transition u1 {{ from In to Out condition {pick(conditions)} }}", "  }"]
+                      f"    transition u1 {{ from In to Out condition {pick(conditions)} }}",
+                      *(["    transition u2 { from Out to In trigger a?x }"] if durings else []), "  }"]
         else:
             lines.append(f"  state {s} {{{entry} }}")
     targets = list(states)
@@ -118,9 +124,9 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
 
 
 def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
-                      enums: bool = False) -> tuple[str, list[str]]:
+                      enums: bool = False, durings: bool = False) -> tuple[str, list[str]]:
     """A random machine with sequences, sets and tuples among its data (`machine_text`)."""
-    rct, states = machine_text(pick, number, data=True, enums=enums)
+    rct, states = machine_text(pick, number, data=True, enums=enums, durings=durings)
     return "import sequence_toolkit::*\nimport set_toolkit::*\n" + rct, states
 
 
@@ -516,7 +522,7 @@ def _visible(r: Result) -> int:
 
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
                 untimed: bool = False, tick_tock: bool = False, operations: bool = False,
-                bidirectional: bool = False, enums: bool = False) -> tuple[str, str]:
+                bidirectional: bool = False, enums: bool = False, durings: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
     with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
     with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
@@ -526,12 +532,14 @@ def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data:
     `bidirectional`, a controller's boundary connection on a or b is `[ mult ]`
     (`network_text`, `bidirectional_assertions`).  Their draws come after all the others, so that
     without them a seed's case is as before.  With `enums`, the case is a machine (never a
-    controller) with a value of an enumeration whose literals take parameters (`ENUM_TYPE`)."""
+    controller) with a value of an enumeration whose literals take parameters (`ENUM_TYPE`); with
+    `durings`, a machine whose composite state has a during action (`DURING_ACTIONS`)."""
     rng = random.Random(seed)
-    network = not data and not enums and rng.random() < controllers
+    network = not data and not enums and not durings and rng.random() < controllers
     make = data_machine_text if data else network_text if network else machine_text
+    extra = {k: True for k, on in (("enums", enums), ("durings", durings)) if on}
     rct, states = (network_text(rng.choice, rng.randint, bidirectional) if network and bidirectional
-                   else make(rng.choice, rng.randint, enums=True) if enums  # type: ignore[call-arg]
+                   else make(rng.choice, rng.randint, **extra) if extra  # type: ignore[call-arg]
                    else make(rng.choice, rng.randint))
     assertions = assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)
     if network and bidirectional:

@@ -63,6 +63,8 @@ UNDECIDED = {
     ("test1", "t1b"): "timed_test1_spec hides a channel of its own (`channel int__`, read since session 11); "
                       "`S equals` it is not decided in this suite's time (BMC times out at depth 12; the explicit "
                       "engine finds its traces too many to list; t1a, the untimed one, holds)",
+    ("clocks8", "A0"): "a composite state's during action beside its child (session 13): BMC times out at depth 10; "
+                       "holds at bound 40 by Spacer's invariant, and in the explicit engine",
     ("clocks4-required", "A2"): "tick-tock, Spec on the left: Mod makes Spec's observations (five tocks, two "
                                 "outputs) in more than 20 steps; holds at the default bound 40 (both engines; "
                                 "the explicit engine at this bound too)",
@@ -78,6 +80,11 @@ NOT_CHECKED = {
                                   "assertions hold in seconds, 7 reach the 60 s timeout (a6, a11-a16: "
                                   "the module's runs with the quantified axioms of its functions), a7 and a9 "
                                   "are unsupported; benchmarks/conformance.py checks it",
+    "Example1": "loads since session 13 (a composite state's during action beside its children): BMC needs "
+                "more than 12 steps and 10 s for each assertion (A0 and A1 hold at bound 40 in about 5 s, "
+                "tests/test_composite_during.py; the explicit engine decides all five at once); "
+                "benchmarks/conformance.py checks it",
+    "Example2": "as Example1: its witnesses take 25 steps, with the during action an operation's graph",
 }
 
 # Refinement and equality assertions of the corpus whose specifications fall in the CSP subset.

@@ -18,6 +18,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from tockbmc.model import ast
+from tockbmc.model.during import composite_during_problem, composite_durings
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 
@@ -36,6 +37,7 @@ class Location:
     active: tuple[str, ...]
     kind: str = "action"  # stable | junction | action | waiting | final | terminated
     deadline: bool = False  # inside a statement `S <{d}`: tock only while its counter is positive
+    during_waiting: bool = False  # a composite state's during action (thread 1) is in a `wait` here
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,7 @@ class Edge:
     havoc: tuple[ast.Variable, ...] = ()  # variables that take any value of their type and range (fresh locals)
     exits: tuple[str, ...] = ()  # on a transition's first step: the states it leaves
     pos: ast.Pos | None = None  # the model text this step runs: a transition, a statement, a final state
+    thread: int = 0  # 1: a step of a composite state's during action, beside its children (§4.1)
 
 
 @dataclass(frozen=True)
@@ -130,6 +133,32 @@ class Automaton:
     def name(self) -> str:
         return self.machine.name
 
+    def copy_edge(self, e: Edge, source: int, target: int, **changes: object) -> Edge:
+        """A copy of step `e` from `source` to `target` (with `changes` to its other fields)."""
+        fields = {f.name: getattr(e, f.name) for f in dataclasses.fields(e)
+                  if f.name not in ("index", "source", "target", "kind")}
+        return self.edge(source, target, e.kind, **{**fields, **changes})
+
+    def prune(self) -> None:
+        """Drop the locations no step reaches from location 0, and their steps, numbering the rest
+        in their order (so location 0 stays the initial one)."""
+        reached = {0}
+        todo = [0]
+        while todo:
+            for e in self.edges_from(todo.pop()):
+                if e.target not in reached:
+                    reached.add(e.target)
+                    todo.append(e.target)
+        number = {old: new for new, old in enumerate(sorted(reached))}
+        self.locations = [dataclasses.replace(loc, index=number[loc.index]) for loc in self.locations
+                          if loc.index in reached]
+        edges = [e for e in self.edges if e.source in reached]
+        self.edges, self._into, self._from = [], {}, {}
+        for e in edges:
+            self.copy_edge(e, number[e.source], number[e.target])
+        self.trigger_deadlines = [dataclasses.replace(td, armed=frozenset(number[x] for x in td.armed if x in reached))
+                                  for td in self.trigger_deadlines]
+
     @property
     def clocks(self) -> tuple[str, ...]:
         """The machine's clocks, then the `sinceEntry` counters its expressions read."""
@@ -151,6 +180,16 @@ class Automaton:
     @property
     def waiting(self) -> frozenset[int]:
         return self._kinds("waiting")
+
+    @property
+    def during_waiting(self) -> frozenset[int]:
+        """Locations where a composite state's during action (thread 1) is in a `wait`."""
+        return frozenset(loc.index for loc in self.locations if loc.during_waiting)
+
+    @property
+    def threaded(self) -> bool:
+        """Whether a composite state's during action runs beside its children somewhere (thread 1)."""
+        return any(e.thread == 1 for e in self.edges)
 
     @property
     def urgent(self) -> frozenset[int]:
@@ -187,7 +226,10 @@ class _Builder:
         self.during_start: dict[str, int] = {}
         self.since_entry = self._since_entry_states()
         self._in_deadline = in_deadline
-        self.parent_during: dict[str, ast.Node] = {}  # child state -> composite whose during starts there
+        # Composite states whose during action runs beside their children (thread 1), and the steps
+        # that enter their first child (where that thread starts), by state.
+        self.threaded = {n.path: n for n in composite_durings(machine)}
+        self.thread_starts: dict[str, list[int]] = {p: [] for p in self.threaded}
         # Looked up once per node: states may nest hundreds deep, and paths grow with the nesting.
         self._nodes = {n.path: n for n in machine.nodes}
         self._ancestors: dict[str, tuple[str, ...]] = {}
@@ -204,9 +246,10 @@ class _Builder:
     # ------------------------------------------------------------ support checks
 
     def _check_supported(self) -> None:
+        problem = composite_during_problem(self.m, self._definition, bool(self.calls))
+        if problem is not None:
+            raise Unsupported(*problem)
         for n in self.m.nodes:
-            if n.during is not None and n.composite:
-                self._composite_during_supported(n)
             if n.kind == "probabilistic":
                 raise Unsupported(n.pos, "probabilistic junctions")
             for s in (n.entry, n.during, n.exit):
@@ -219,30 +262,6 @@ class _Builder:
                 raise Unsupported(t.deadline.pos, "a deadline on a transition whose condition reads its "
                                                   "input is not encoded yet")
             self._check_stmt(t.action)
-
-    def _composite_during_supported(self, n: ast.Node) -> None:
-        """A composite's during runs once a child is stable (docs/semantics.md §4.1) and is abandoned by any transition.
-
-        Encoded when that order is all there is: the children are leaf states without their own
-        during, and no transition moves between them (only the initial one enters them), so the
-        composite is entered whenever a child is.  Anything else is `unsupported`.
-        """
-        assert n.during is not None
-        inside = {x.path for x in self.m.nodes if x.path.startswith(n.path + "::")}
-        children = [x for x in self.m.nodes if x.parent == n.path]
-        for x in children:
-            if x.kind == "initial":
-                continue
-            if x.kind != "state" or x.composite or x.during is not None:
-                raise Unsupported(n.during.pos, "a during action of a composite state whose children are not all "
-                                                "leaf states without a during action is not encoded yet")
-        for t in self.m.transitions:
-            if t.source in inside and t.target in inside and self.m.node(t.source).kind != "initial":
-                raise Unsupported(n.during.pos, "a during action of a composite state whose children move among "
-                                                "themselves is not encoded yet")
-        for x in children:
-            if x.kind == "state":
-                self.parent_during[x.path] = n
 
     def _check_stmt(self, s: ast.Stmt | None) -> None:
         for st in ast.statements(s):
@@ -299,6 +318,10 @@ class _Builder:
         # The machine starts by taking its top-level initial transition.
         self._start(start)
         self._transitions()
+        for path, state in self.threaded.items():
+            self._thread(state, self.thread_starts[path])
+        if self.threaded:
+            self.a.prune()  # the product leaves its templates and the children's side alone unreachable
         return self.a
 
     def inline(self, cur: int) -> int:
@@ -477,38 +500,94 @@ class _Builder:
                     cur = self._stmt(cur, init.action, inside, f"{init.name}: action")
                 return cur, init, inside, pending
             cur = self._entered(cur, pending, (*active, target.path), target.pos)
-            if target.path in self.parent_during:
-                self._goto(cur, self._during(target, (*active, target.path), self.parent_during[target.path]))
-            elif target.during is not None:
-                self._goto(cur, self._during(target, (*active, target.path)))
+            if target.during is not None:
+                step = self._goto(cur, self._during(target, (*active, target.path)))
             else:
-                self._goto(cur, self.stable[target.path], pos)
+                step = self._goto(cur, self.stable[target.path], pos)
+            # A composite state entered by this transition starts its during action beside the child.
+            for s in pending:
+                if s in self.threaded:
+                    self.thread_starts[s].append(step)
         else:
             raise Unsupported(target.pos, f"entering a {target.kind}")
         return None
 
-    def _during(self, state: ast.Node, active: tuple[str, ...], owner: ast.Node | None = None) -> int:
-        """The start of a leaf state's during action (or, with `owner`, of the composite `owner`'s,
-        run in `state`), built once; it ends in the stable location of `state`."""
+    def _during(self, state: ast.Node, active: tuple[str, ...]) -> int:
+        """The start of a leaf state's during action, built once; it ends in the stable location of `state`."""
         if state.path not in self.during_start:
-            owner = owner or state
             first = len(self.a.locations)
-            start = self._location(f"{owner.path}: during", active)
+            start = self._location(f"{state.path}: during", active)
             self.during_start[state.path] = start
-            assert owner.during is not None
-            end = self._stmt(start, owner.during, active, f"{owner.path}: during")
+            assert state.during is not None
+            end = self._stmt(start, state.during, active, f"{state.path}: during")
             self._goto(end, self.stable[state.path])
             self.in_state[state.path] = [loc.index for loc in self.a.locations[first:]
                                          if loc.index != self.stable[state.path]]
         return self.during_start[state.path]
 
-    def _goto(self, cur: int, target: int, pos: ast.Pos | None = None) -> None:
-        """Continue at `target`: redirect the one step into `cur` when that loses nothing."""
+    def _thread(self, state: ast.Node, starts: list[int]) -> None:
+        """Run composite `state`'s during action beside its children: a product of two threads.
+
+        The children's side is every location reached from the child locations that `starts`
+        (the steps entering `state`'s first child) lead to, without leaving `state`; the during
+        action's side is its own statements, built here once as a template.  Each pair is a
+        location; a child's step keeps the during action where it is, a step of the during
+        action (thread 1) keeps the children where they are, and a step leaving `state` leaves
+        the during action behind (docs/semantics.md §4.1)."""
+        assert state.during is not None
+        a = self.a
+        active = self.chain(state.path)
+        first = len(a.locations)
+        first_edge = len(a.edges)
+        d0 = self._location(f"{state.path}: during", active)
+        self._stmt(d0, state.during, active, f"{state.path}: during")
+        template = a.locations[first:]
+        steps = a.edges[first_edge:]
+        # The children's side: closed under the children's steps that stay inside `state`.
+        side: list[int] = []
+        seen: set[int] = set()
+        todo = [a.edges[s].target for s in starts]
+        while todo:
+            c = todo.pop()
+            if c in seen:
+                continue
+            seen.add(c)
+            side.append(c)
+            for e in a.edges_from(c):
+                if state.path not in e.exits:
+                    todo.append(e.target)
+        pair: dict[tuple[int, int], int] = {}
+        for c in side:
+            loc = a.locations[c]
+            if state.path not in loc.active:  # pragma: no cover - every step inside keeps `state` active
+                raise Unsupported(state.during.pos, f"a step of {state.path}'s children leaves it without exiting it")
+            for d in template:
+                pair[c, d.index] = a.location(f"{loc.description} ∥ {d.description}", loc.active, loc.kind,
+                                              loc.deadline)
+                a.locations[pair[c, d.index]] = dataclasses.replace(a.locations[pair[c, d.index]],
+                                                                    during_waiting=d.kind == "waiting")
+        for c in side:
+            for e in a.edges_from(c):
+                for d in template:
+                    target = e.target if state.path in e.exits else pair[e.target, d.index]
+                    a.copy_edge(e, pair[c, d.index], target)
+        for e in steps:
+            for c in side:
+                a.copy_edge(e, pair[c, e.source], pair[c, e.target], thread=1)
+        for s in starts:
+            a.retarget(a.edges[s], pair[a.edges[s].target, d0])
+        a.trigger_deadlines = [
+            dataclasses.replace(td, armed=td.armed | {pair[c, d.index] for c in td.armed & seen for d in template})
+            for td in a.trigger_deadlines]
+
+    def _goto(self, cur: int, target: int, pos: ast.Pos | None = None) -> int:
+        """Continue at `target`: redirect the one step into `cur` when that loses nothing; returns
+        the step that now leads to `target`."""
         into = self.a.edges_into(cur)
         if cur != 0 and len(into) == 1 and not self.a.edges_from(cur) and self.a.locations[cur].kind == "action":
             self.a.retarget(into[0], target, pos)
-        else:
-            self.a.edge(cur, target, "tau", pos=pos)
+            return into[0].index
+        return self.a.edge(cur, target, "tau", pos=pos).index
 
     # ------------------------------------------------------------ statements
 

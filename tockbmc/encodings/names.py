@@ -12,9 +12,10 @@ def location(component: str) -> str:
     return f"{component}.loc"
 
 
-def wait(component: str) -> str:
-    """Tocks left of a running `wait`."""
-    return f"{component}.wait"
+def wait(component: str, thread: int = 0) -> str:
+    """Tocks left of a running `wait`; thread 1 is a composite state's `during` action, which runs
+    beside the state's children (docs/semantics.md §4.1) and has a `wait` of its own."""
+    return f"{component}.wait" if thread == 0 else f"{component}.during_wait"
 
 
 def deadline(component: str) -> str:

@@ -280,6 +280,8 @@ class TransitionSystem:
             m = comp.machine
             self._slot(names.location(comp.name), z3.IntSort())
             self._slot(names.wait(comp.name), z3.IntSort())
+            if comp.automaton.threaded:
+                self._slot(names.wait(comp.name, 1), z3.IntSort())
             self._slot(names.deadline(comp.name), z3.IntSort())
             for clock in comp.automaton.clocks:
                 self._slot(names.clock(comp.name, clock), z3.IntSort())
@@ -435,7 +437,7 @@ class TransitionSystem:
         for group in e.negated_guards:
             enabled.append(z3.Not(z3.And([ev.scalar(g) for g in group])))
         if e.ends_wait:
-            enabled.append(f[names.wait(comp.name)] == 0)
+            enabled.append(f[names.wait(comp.name, e.thread)] == 0)
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
         # Updates in order, each reading the values the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
@@ -462,7 +464,7 @@ class TransitionSystem:
             low, high = ev.scalar(e.wait_low), ev.scalar(e.wait_high)  # type: ignore[arg-type]
             enabled.append(low <= high)
             choose += [length >= low, length <= high]  # type: ignore[list-item, operator]
-            post[names.wait(comp.name)] = length  # type: ignore[assignment]
+            post[names.wait(comp.name, e.thread)] = length  # type: ignore[assignment]
         if e.deadline is not None:
             post[names.deadline(comp.name)] = ev.scalar(e.deadline)  # type: ignore[assignment]
         for td in comp.automaton.trigger_deadlines:
@@ -567,6 +569,9 @@ class TransitionSystem:
                 post[name] = f[name] + 1  # type: ignore[operator]
             w = f[names.wait(comp.name)]
             post[names.wait(comp.name)] = z3.If(self.located(c, comp.automaton.waiting), w - 1, w)  # type: ignore[operator]
+            if comp.automaton.threaded:
+                w = f[names.wait(comp.name, 1)]
+                post[names.wait(comp.name, 1)] = z3.If(self.located(c, comp.automaton.during_waiting), w - 1, w)  # type: ignore[operator]
             d = f[names.deadline(comp.name)]
             post[names.deadline(comp.name)] = z3.If(self.located(c, comp.automaton.deadlined), d - 1, d)  # type: ignore[operator]
             for td in comp.automaton.trigger_deadlines:
@@ -647,6 +652,8 @@ class TransitionSystem:
         for comp in self.components:
             cs += [f[names.location(comp.name)] == 0, f[names.wait(comp.name)] == 0,
                    f[names.deadline(comp.name)] == 0]
+            if comp.automaton.threaded:
+                cs.append(f[names.wait(comp.name, 1)] == 0)
             cs += [f[names.clock(comp.name, clock)] == 0 for clock in comp.automaton.clocks]
             cs += [f[names.armed(comp.name, td.transition)] == 0 for td in comp.automaton.trigger_deadlines]
         for base, (t, initial, c, key) in self.initial.items():

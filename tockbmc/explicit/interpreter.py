@@ -106,11 +106,13 @@ from collections import defaultdict
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import partial
 from typing import Any, NamedTuple, cast
 
 from tockbmc.model import ast
 from tockbmc.model.config import instance_key
 from tockbmc.model.data import Product, Variant, text_of
+from tockbmc.model.during import composite_during_problem
 from tockbmc.model.untimed import untimed
 
 # ----------------------------------------------------------------------------- public values
@@ -415,6 +417,9 @@ class Frame(NamedTuple):
     abandon it); `dls` the statement-deadline counters; `pend` the states whose `during` starts
     once a leaf is stable; `via` the transition being taken; `entering` the composite states being
     entered, whose `sinceEntry` starts once the states their initial transitions lead to are entered.
+    `bg` is the second thread of control: the activations running composite state `bg_of`'s during
+    action beside its children (docs/semantics.md §4.1), whose base frame has no node (empty
+    when no such action runs).
     """
 
     beh: int
@@ -425,6 +430,8 @@ class Frame(NamedTuple):
     pend: tuple
     via: str | None
     entering: tuple = ()
+    bg: tuple = ()
+    bg_of: str | None = None
 
 
 class Config:
@@ -996,6 +1003,9 @@ class Interpreter:
         beh = self.behs[bi]
         b = beh.b
         op = b if isinstance(b, ast.OperationDef) else None
+        problem = composite_during_problem(b, partial(self._resolve_call, i), beh.is_op)
+        if problem is not None:
+            raise NotInterpretable(*problem)
         for v in b.variables:
             self._reg_var(i, v, op)
         if op is not None:
@@ -1768,6 +1778,9 @@ class Interpreter:
                 d = f"taking {f.via}" if f.via else (f.node or "?")
                 if k > 0:
                     d = f"{self.behs[f.beh].b.name}(): {d}"
+                if f.bg:
+                    d += f" ∥ {f.bg_of}: during" + "".join(f" / {self.behs[g.beh].b.name}(): {g.node or '?'}"
+                                                         for g in f.bg[1:])
                 parts.append(d)
             out[inst.name] = " / ".join(parts)
         return out
@@ -1840,9 +1853,15 @@ class Interpreter:
                 if node.kind == "state" or (node.kind == "final" and node.parent is not None):
                     active = set(beh.ancestors(target))
                     cont = tuple(("s", self._sid_of(d)) for p in durs
-                                 if p in active and (d := beh.nodes[p].during) is not None)
-                    frames[-1] = f._replace(node=target, cont=cont + rest, intr=bool(cont), pend=(), via=None,
-                                            dls=())
+                                 if p in active and not beh.nodes[p].composite and (d := beh.nodes[p].during) is not None)
+                    frames[-1] = f = f._replace(node=target, cont=cont + rest, intr=bool(cont), pend=(), via=None,
+                                                dls=())
+                    # A composite state entered on the way starts its during action beside its children.
+                    for p in durs:
+                        during = beh.nodes[p].during
+                        if p in active and beh.nodes[p].composite and during is not None:
+                            start = Frame(f.beh, None, (("s", self._sid_of(during)),), False, (), (), None)
+                            frames[-1] = f._replace(bg=self._norm(ctx, [start]), bg_of=p)
                 else:
                     frames[-1] = f._replace(node=target, cont=rest, pend=durs, via=None)
             else:  # pragma: no cover
@@ -1878,7 +1897,8 @@ class Interpreter:
                 *((("s", self._sid_of(t.action)),) if t.action is not None else ()),
                 *(("e", p) for p in enters),
                 ("a", t.target, durs, (*f.entering, *enters)))
-        nf = Frame(f.beh, f.node, cont, False, (), (), t.name)
+        kept = f.bg_of is not None and f.bg_of not in exits  # a transition leaving `bg_of` abandons its during
+        nf = Frame(f.beh, f.node, cont, False, (), (), t.name, (), f.bg if kept else (), f.bg_of if kept else None)
         return self._result(ctx, [*frames[:k], nf])
 
     def _moves(self, cfg: Config, i: int) -> list[tuple]:
@@ -1893,7 +1913,38 @@ class Interpreter:
             f = frames[k]
             if (k == top and not f.cont) or f.intr:
                 self._transition_moves(cfg, i, frames, k, out)
+            if f.bg:
+                self._during_moves(cfg, i, frames, k, out)
         return out
+
+    def _during_moves(self, cfg: Config, i: int, frames: tuple, k: int, out: list) -> None:
+        """The moves of the during action running beside frame `k`'s children (`Frame.bg`): those of
+        its own activations, each leaving the children's where they are."""
+        bg = frames[k].bg
+        inner: list[tuple] = []
+        if bg[-1].cont:
+            self._instr_moves(cfg, i, bg, inner)
+        for kk in range(len(bg) - 1, -1, -1):
+            g = bg[kk]
+            if (kk == len(bg) - 1 and not g.cont) or g.intr:
+                self._transition_moves(cfg, i, bg, kk, inner)
+
+        def lift(result: tuple) -> tuple:
+            thread, upd = result
+            return (*frames[:k], self._with_during(frames[k], thread), *frames[k + 1:]), upd
+
+        for m in inner:
+            if m[0] == "in":
+                accept = m[3]
+                out.append((*m[:3], lambda v, accept=accept: [(note, lift(r)) for note, r in accept(v)]))
+            else:
+                out.append((*m[:-1], lift(m[-1])))
+
+    @staticmethod
+    def _with_during(f: Frame, thread: tuple) -> Frame:
+        """Frame `f` with its during action's activations now `thread` (none once it has ended)."""
+        done = len(thread) == 1 and not thread[0].cont
+        return f._replace(bg=(), bg_of=None) if done else f._replace(bg=thread)
 
     def _transition_moves(self, cfg: Config, i: int, frames: tuple, k: int, out: list) -> None:
         f = frames[k]
@@ -2353,12 +2404,24 @@ class Interpreter:
     def _filled(self, config: Config, chosen: dict[int, object]) -> Config:
         return Config(config.machines, fill(config.store, chosen), config.done)  # type: ignore[arg-type]
 
+    def _tocked(self, ctx: _Ctx, frames: tuple) -> list[Frame]:
+        """Activations after a tock: deadlines and the running wait count down, in the during
+        actions running beside children too (`Frame.bg`)."""
+        fl = [f._replace(dls=tuple(d - 1 for d in f.dls)) if f.dls else f for f in frames]
+        top = fl[-1]
+        if top.cont and top.cont[0][0] == "w":
+            fl[-1] = top._replace(cont=(("w", top.cont[0][1] - 1), *top.cont[1:]))
+        for k, f in enumerate(fl):
+            if f.bg:
+                fl[k] = self._with_during(f, self._norm(ctx, self._tocked(ctx, f.bg)))
+        return fl
+
     def _tock(self, config: Config, steps: list[Step], urgent: bool) -> Config | None:
         """The configuration after `tock`, or None if `tock` is refused (docs/semantics.md §3.3, §4.6)."""
         if urgent or any(s.kind == "internal" for s in steps):
             return None
         for frames in config.machines:
-            for f in frames:
+            for f in (*frames, *(g for h in frames for g in h.bg)):
                 if any(d <= 0 for d in f.dls):
                     return None
         store = list(config.store)
@@ -2376,12 +2439,8 @@ class Interpreter:
         base = tuple(store)
         upd: dict = {}
         for i, frames in enumerate(config.machines):
-            fl = [f._replace(dls=tuple(d - 1 for d in f.dls)) if f.dls else f for f in frames]
-            top = fl[-1]
-            if top.cont and top.cont[0][0] == "w":
-                fl[-1] = top._replace(cont=(("w", top.cont[0][1] - 1), *top.cont[1:]))
             ctx = _Ctx(base, i, upd)
-            machines.append(self._norm(ctx, fl))
+            machines.append(self._norm(ctx, self._tocked(ctx, frames)))
             upd = ctx.upd
         for s, v in upd.items():
             store[s] = v

@@ -89,6 +89,8 @@ def time_only(system: TransitionSystem) -> z3.BoolRef:
     for c, comp in enumerate(system.components):
         a = comp.automaton
         calm.append(z3.Not(z3.And(system.located(c, a.waiting), f[names.wait(comp.name)] > 0)))
+        if a.threaded:
+            calm.append(z3.Not(z3.And(system.located(c, a.during_waiting), f[names.wait(comp.name, 1)] > 0)))
         calm.append(z3.Not(system.located(c, a.deadlined)))
         calm += [z3.Not(system.armed(c, td)) for td in a.trigger_deadlines]
     return z3.And(z3.Not(system.halted()), system.tock_enabled(), *calm, _nothing_ever(system))
