@@ -114,3 +114,18 @@ def test_a_range_path_names_one_literal_s_argument(tmp_path: Path) -> None:
                           ("S::inp.EM3.2", "needs the number of an argument of EM3, 1 to 1")):
         with pytest.raises(ConfigError, match=message):
             configure(project, Ranges({path: Range(Fraction(0), Fraction(1))}))
+
+
+def test_a_specification_cannot_pass_on_such_a_value(tmp_path: Path) -> None:
+    """A specification that receives a value of such an enumeration and sends it back
+    (`inp.in?x -> out.out!x`) would need RoboTool's CSP spelling of the values: `unsupported`, never
+    a verdict from comparing values the two sides write differently."""
+    spec = """\
+timed csp Echo csp-begin
+  Echo = S::out.out?x -> Echo [] S::inp.in?x -> S::out.out!x -> Echo [] tock -> Echo
+csp-end
+assertion E: S refines Echo in the traces model.
+"""
+    project = load(write_files(tmp_path / "m", {"m.rct": MODEL, "m.assertions": spec}))
+    [r] = check(project, bound=12, ranges=_ranges(1))
+    assert r.verdict in (Verdict.UNSUPPORTED, Verdict.UNKNOWN), (r.verdict, r.reason)

@@ -368,10 +368,9 @@ def _listed_as_bmc_bounds(t: ast.Type, ranges: Ranges) -> bool:
     """Whether the interpreter lists exactly the values of type `t` that BMC lets come from outside:
     an enumeration or a boolean, or an integer type with its own range (BMC reads `core_nat` for a
     natural, where the interpreter falls back on `core_int`); never a real (BMC takes every real of
-    a range, the interpreter its integers)."""
-    if isinstance(t, ast.EnumType):  # and a literal's parameters, each one listed so
-        return all(_listed_as_bmc_bounds(pt, ranges) for ps in t.params for pt in ps)
-    if t == ast.BOOLEAN:
+    a range, the interpreter its integers).  Not an enumeration whose literals take parameters: a
+    specification cannot name its values (RoboTool's CSP spelling of them is not known)."""
+    if t == ast.BOOLEAN or (isinstance(t, ast.EnumType) and not t.params):
         return True
     if t == ast.INT:
         return "core_int" in ranges.by_type
