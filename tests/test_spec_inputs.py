@@ -442,3 +442,43 @@ untimed assertion Z : M refines Zero in the traces model
         shown = visible(results["Z"])
         v = shown[0].rsplit(".", 1)[1]
         assert v != "0" and shown == [f"M::a.in.{v}", f"M::b.out.({v}, {v})"], shown
+
+
+RECORD_MODEL = """\
+package P
+datatype DT { q : nat p : nat }
+interface I { event input : DT event output : nat }
+stm M {
+  uses I
+  var i : DT = DT (| q = 0, p = 0 |)
+  var t : nat = 0
+  initial i0
+  state s0 { }
+  transition t0 { from i0 to s0 }
+  transition t1 { from s0 to s0 trigger input?i action t = i.p + i.q ; output!t }
+}
+"""
+RECORD_SPECS = """\
+untimed csp Sum csp-begin
+  Sum = P::M::input.in?x -> P::M::output.out!Plus(P_DT_p(x), P_DT_q(x), core_nat) -> Sum
+csp-end
+untimed csp Wrong csp-begin
+  Wrong = P::M::input.in?x -> P::M::output.out!Plus(P_DT_p((P_DT_p(x), 1)), P_DT_q(x), core_nat) -> Wrong
+csp-end
+untimed assertion S: P::M refines Sum in the traces model.
+untimed assertion W: P::M refines Wrong in the traces model.
+"""
+
+
+def test_a_specification_reads_a_received_record_s_fields_as_robotool_writes_them(tmp_path: Path) -> None:
+    """RoboTool's `pkg_R_f(x)` reads field f of record x (test15's `test15_DT_p(x)`), and of a tuple the
+    part in f's place, RoboTool writing a record as the tuple of its fields: `P_DT_p((a, 1))` is 1.
+    Sum outputs p + q, as the machine does; Wrong outputs 1 + q.  Both engines."""
+    project = tockbmc.load(write_files(tmp_path / "rec", {"m.rct": RECORD_MODEL, "m.assertions": RECORD_SPECS}))
+    config = configure(project, NAT)
+    bmc = {r.assertion: r for r in check(project, bound=20, config=config)}
+    explicit = {r.assertion: r for r in check_explicit(project, None, 8, NAT, {}, 60, config=config)}
+    assert {k: r.verdict for k, r in bmc.items()} == {k: r.verdict for k, r in explicit.items()} == {
+        "S": "holds", "W": "violated"}
+    for r in (bmc["W"], explicit["W"]):
+        assert [s.event for s in r.trace if s.kind == "event"] == ["M::input.in.(q=0, p=0)", "M::output.out.0"]

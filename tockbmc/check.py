@@ -372,6 +372,8 @@ def _listed_as_bmc_bounds(t: ast.Type, ranges: Ranges) -> bool:
     specification cannot name its values (RoboTool's CSP spelling of them is not known)."""
     if t == ast.BOOLEAN or (isinstance(t, ast.EnumType) and not t.params):
         return True
+    if isinstance(t, ast.RecordType):  # a record's values, field by field
+        return all(_listed_as_bmc_bounds(f.type, ranges) for f in t.fields)
     if t == ast.INT:
         return "core_int" in ranges.by_type
     if t == ast.NAT:

@@ -525,7 +525,8 @@ VALUES_LISTED = 64  # values of one channel listed where a specification accepts
 def channel_values(interp: Interpreter, element: ast.StateMachine | ast.Controller | ast.Module,
                    literals: dict[str, EnumValue]) -> Callable[[tuple], list[tuple] | None]:
     """`Semantics.values` for an element: every value tuple of a channel within the interpreter's
-    ranges, None where a type has no range, holds records, or gives more than `VALUES_LISTED`."""
+    ranges (a record as a `Record`), None where a type has no range or gives more than
+    `VALUES_LISTED`."""
     types = element_types(element)
 
     def values(prefix: tuple) -> list[tuple] | None:
@@ -536,7 +537,7 @@ def channel_values(interp: Interpreter, element: ast.StateMachine | ast.Controll
             domains = [interp.domain(t, (prefix[0],)) for t in ts]
         except Unbounded:
             return None
-        if math.prod(len(d) for d in domains) > VALUES_LISTED or any(isinstance(v, dict) for d in domains for v in d):
+        if math.prod(len(d) for d in domains) > VALUES_LISTED:
             return None
         return [tuple(literals.get(v, v) if isinstance(v, str) else v for v in combo)
                 for combo in itertools.product(*domains)]

@@ -448,7 +448,12 @@ def _equals(term: object, value: object) -> z3.BoolRef:
                 raise ValueError(f"the specification's value {value!r} is not a tuple of {len(term)} parts, "
                                  "as the event's values are")
             return z3.And([_equals(term[str(i)], v) for i, v in enumerate(value, 1)])
-        raise ValueError("a specification that names values of a record-typed event is not supported")
+        # a record received by the specification (`c?x`, its values listed), field by field; a record
+        # the specification writes itself (RoboTool's tuple of its fields) is not compared yet
+        if isinstance(value, dict) and set(value) == set(term):
+            return z3.And([_equals(term[f], value[f]) for f in term])
+        raise ValueError("a specification that writes a value of a record-typed event is not supported (only one "
+                         "it received is compared)")
     assert isinstance(term, z3.ExprRef)
     if isinstance(value, bool):
         return term == z3.BoolVal(value) if z3.is_bool(term) else z3.BoolVal(False)

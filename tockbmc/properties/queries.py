@@ -84,7 +84,7 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
         raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
                                 "read before `#C` first resets it) is not checked yet")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project),
-                   _enumerations(project))
+                   _enumerations(project), _record_fields(project))
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)
@@ -433,6 +433,14 @@ def _enumerations(project: ast.Project) -> dict[str, frozenset[EnumValue]]:
             for key in (t.name, t.qname.replace("::", "_")):
                 out[key] = values
     return out
+
+
+def _record_fields(project: ast.Project) -> dict[str, tuple[str, int]]:
+    """RoboTool's CSP functions that read a record's field, `pkg_R_f` (test15's `test15_DT_p(x)`),
+    each with its field's name and place among the record's fields (RoboTool writes a record value
+    as the tuple of its fields, in declaration order)."""
+    return {f"{t.qname.replace('::', '_')}_{f.name}": (f.name, i)
+            for t in project.types if isinstance(t, ast.RecordType) for i, f in enumerate(t.fields)}
 
 
 def _literals(project: ast.Project) -> dict[str, EnumValue]:

@@ -290,10 +290,12 @@ class Evaluator:
 
     def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
                  literals: dict[str, EnumValue] | None = None, memory: frozenset[str] = frozenset(),
-                 enumerations: dict[str, frozenset[EnumValue]] | None = None):
+                 enumerations: dict[str, frozenset[EnumValue]] | None = None,
+                 fields: dict[str, tuple[str, int]] | None = None):
         self.lookup_top = lookup_top
         self.block = block
         self.literals = literals or {}
+        self.fields = fields or {}  # RoboTool's `pkg_R_f`: a record's field by name and by place
         self.enumerations = enumerations or {}  # an enumeration type's name (RoboTool's `pkg_E` too): its literals
         self.memory = memory  # RoboTool's `set_x`/`get_x` channel names of the model's variables, not its events
 
@@ -471,6 +473,8 @@ class Evaluator:
             return self._use(d, denv, args)
         if top is not None:
             return self._use(top, Env({}, {}, top.timed), args)
+        if name in self.fields and len(args) == 1:
+            return self.record_field(t, name, args[0])
         builtin = _BUILTINS.get(name)
         if builtin is None:
             raise self.error(t, f"'{name}' is outside the CSP subset tockbmc understands")
@@ -478,6 +482,18 @@ class Evaluator:
             return builtin(env.timed, *args)
         except (TypeError, ValueError):
             raise self.error(t, f"wrong arguments for '{name}'") from None
+
+    def record_field(self, t: Tree, name: str, v: object) -> object:
+        """RoboTool's `pkg_R_f(v)`: field f of record v, or the part in f's place of a tuple (RoboTool
+        writes a record as the tuple of its fields, so test15 reads `test15_DT_p((a, 1))` as 1)."""
+        field, place = self.fields[name]
+        if v is OTHER:
+            raise self.error(t, "this value comes from an input the specification does not track")
+        if isinstance(v, dict) and field in v:
+            return v[field]
+        if isinstance(v, tuple) and place < len(v):
+            return v[place]
+        raise self.error(t, f"'{name}' reads field {field} of a record, and this is not one")
 
     def bounded_arithmetic(self, t: Tree, name: str, args_t: list, env: Env) -> int:
         """RoboTool's `Plus(a, b, T)`, `Minus`, `Mult`, `Div`, `Modulus`, `Neg(a, T)`: its generated
