@@ -145,3 +145,41 @@ def test_tick_tock_includes_the_failures_check_at_the_end_of_a_trace(tmp_path) -
     for rs in both(tmp_path, "assertion T: M refines Ext in the tick-tock model.\n"):
         assert rs["T"].verdict == "violated" and [s.event for s in rs["T"].trace if s.kind != "internal"] == []
         assert "every stable state of Ext" in (rs["T"].reason or "") and rs["T"].extra["tock_refusals"] == []
+
+
+def test_a_specification_that_ends_by_terminating_cannot_refuse_to(tmp_path: Path) -> None:
+    """`a -> EndBy(SKIP, 0)` terminates after a, as `a -> SKIP` does: it cannot refuse ✓, so a
+    machine stuck after a (S) does not refine it in the failures model, and one that terminates
+    (T) does, both ways.  Until session 13 EndBy's termination was an internal step into a
+    terminated state that refused everything, so S "refined" it (and T could not match it)."""
+    rct = """\
+stm S {
+  event a
+  initial i
+  state s0 { }
+  state s1 { }
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to s1 trigger a }
+}
+stm T {
+  event a
+  initial i
+  state s0 { }
+  final f
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to f trigger a }
+}
+"""
+    assertions = """\
+untimed csp Specs csp-begin
+  QS = S::a.in -> EndBy(SKIP, 0)
+  QT = T::a.in -> T::terminate -> EndBy(SKIP, 0)
+csp-end
+untimed assertion FS: S refines QS in the failures model.
+untimed assertion FT: T equals QT in the failures model.
+"""
+    write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
+    project = tockbmc.load(tmp_path)
+    bmc = {r.assertion: r.verdict for r in check(project, bound=14)}
+    explicit = {r.assertion: r.verdict for r in check_explicit(project, None, 14, Ranges(), {}, 60)}
+    assert bmc == explicit == {"FS": "violated", "FT": "holds"}

@@ -649,9 +649,7 @@ class _Builder:
         Its nodes and transitions are renamed `op().path` (numbered when inlined again) so that
         they are distinct from the machine's; its variables and clocks are declared once.
         """
-        given = ast.provided_by_caller(self.m, op)
-        if given is not None:
-            raise Unsupported(call.pos, ast.CALLER_PROVIDES.format(op=op.name, v=given.name, caller=self.m.name))
+        op = ast.provided_for(self.m, op)  # the variables it requires that the calling operation declares
         self.a.inlined[op.name] = self.a.inlined.get(op.name, 0) + 1
         label = f"{op.name}()" + (f"#{self.a.inlined[op.name]}" if self.a.inlined[op.name] > 1 else "")
         for v in (*op.parameters, *op.variables):

@@ -21,6 +21,7 @@ from collections import deque
 from collections.abc import Callable, Hashable, Iterable, Iterator
 from dataclasses import replace
 from fractions import Fraction
+from functools import partial
 from typing import NamedTuple, cast
 
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, Unbounded, fill, unknowns
@@ -652,10 +653,7 @@ def _observed(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
     observations, checks, length = observation_checks(mon, sem, checker.channels, length)
 
     def within(r: SpecRefusal) -> Callable[[Config, list[Edge]], bool]:
-        def holds(config: Config, steps: list[Edge]) -> bool:
-            return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
-                    and all(checker.within(r, e.step) for e in steps))
-        return holds
+        return partial(_made, search, checker, r)
 
     def terminates(ticks: bool) -> Callable[[Config, list[Edge]], bool]:
         return lambda config, steps: not ticks or search.interp.terminated(config)
@@ -685,13 +683,15 @@ def _observed(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
 
 
 def _refuses_as(search: Search, checker: ConcreteRefusals, r: SpecRefusal) -> bool:
-    """Whether the element can perform r's events and then be stable, short of termination, offering
-    only events of r's acceptance."""
-    def end(config: Config, steps: list[Edge]) -> bool:
-        return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
-                and all(checker.within(r, e.step) for e in steps))
+    """Whether the element can perform r's events and then make r (`_made`)."""
+    return _runs_to(search, r.events, partial(_made, search, checker, r))
 
-    return _runs_to(search, r.events, end)
+
+def _made(search: Search, checker: ConcreteRefusals, r: SpecRefusal, config: Config, steps: list[Edge]) -> bool:
+    """Whether a configuration (with its steps) makes refusal `r`: stable, short of termination,
+    offering only events of r's acceptance."""
+    return (not search.interp.terminated(config) and not any(e.step.kind == "internal" for e in steps)
+            and all(checker.within(r, e.step) for e in steps))
 
 
 def _performs(search: Search, t: SpecTrace) -> bool:

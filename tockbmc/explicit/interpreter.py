@@ -744,6 +744,7 @@ class Interpreter:
         self._sid: dict[int, int] = {}
         self.behs: list[_Beh] = []
         self._beh_of: dict[int, int] = {}
+        self._provided: dict[tuple[int, int], tuple[object, object, ast.OperationDef]] = {}  # `_resolve_call`
         self.insts: list[_Inst] = []
         self.links: list[_Link] = []
         self.out_link: dict[tuple, _Link] = {}
@@ -990,14 +991,22 @@ class Interpreter:
             display = f"{inst}.{var.name}"
         self._reg(key, "const" if var.constant else "var", var, display, i)
 
-    def _resolve_call(self, i: int, st: ast.OperationCall) -> ast.OperationDef | None:
-        """The defined operation a call runs, or None for a platform operation."""
+    def _resolve_call(self, i: int, st: ast.OperationCall, caller: ast.Behaviour | None = None) -> ast.OperationDef | None:
+        """The defined operation a call runs (as `caller` runs it: with the variables it requires
+        that the calling operation declares, `ast.provided_for`), or None for a platform operation."""
         op = st.operation
         # docs/semantics.md §4.7: a platform operation is a signature, or an operation whose body is only `terminates`.
         if isinstance(op, ast.OperationDef):
-            return op if op.nodes else None
-        d = self.insts[i].defined.get(op.name)
-        return d if d is not None and d.nodes else None
+            d: ast.OperationDef | None = op if op.nodes else None
+        else:
+            d = self.insts[i].defined.get(op.name)
+            d = d if d is not None and d.nodes else None
+        if d is None or caller is None:
+            return d
+        key = (id(caller), id(d))
+        if key not in self._provided:  # one object per caller, so that it is one behaviour (`_beh`)
+            self._provided[key] = (caller, d, ast.provided_for(caller, d))
+        return self._provided[key][2]
 
     def _scan(self, i: int, bi: int, stack: list[int]) -> None:
         beh = self.behs[bi]
@@ -1050,14 +1059,11 @@ class Interpreter:
             elif isinstance(st, ast.ClockReset):
                 self._reg(("clk", i, st.clock.name), "clock", None, f"{inst}.{st.clock.name}", i)
             elif isinstance(st, ast.OperationCall):
-                d = self._resolve_call(i, st)
+                d = self._resolve_call(i, st, b)
                 if d is not None:
                     di = self._beh(d, True)
-                    if di in stack or di == bi:
+                    if di in stack or di == bi or any(self.behs[s].b.qname == d.qname for s in (*stack, bi)):
                         raise NotInterpretable(st.pos, f"recursive operation {d.name}")
-                    given = ast.provided_by_caller(b, d)
-                    if given is not None:
-                        raise NotInterpretable(st.pos, ast.CALLER_PROVIDES.format(op=d.name, v=given.name, caller=b.name))
                     self._scan(i, di, [*stack, bi])
 
     def _clock_caps(self) -> dict[int, int]:
@@ -1126,13 +1132,13 @@ class Interpreter:
                     walk((t.condition, t.deadline, t.action, t.trigger.value if t.trigger else None), i, bi)
                     for st in ast.statements(t.action):
                         if isinstance(st, ast.OperationCall):
-                            d = self._resolve_call(i, st)
+                            d = self._resolve_call(i, st, b)
                             if d is not None:
                                 todo.append(self._beh(d, True))
                 for n in b.nodes:
                     for st in (*ast.statements(n.entry), *ast.statements(n.during), *ast.statements(n.exit)):
                         if isinstance(st, ast.OperationCall):
-                            d = self._resolve_call(i, st)
+                            d = self._resolve_call(i, st, b)
                             if d is not None:
                                 todo.append(self._beh(d, True))
         return {s: v for s, v in limits.items() if v is not None}
@@ -2033,7 +2039,7 @@ class Interpreter:
             out.append(("in", st.event.name, st.event.type, accept))
         elif isinstance(st, ast.OperationCall):
             ctx = _Ctx(cfg.store, i)
-            d = self._resolve_call(i, st)
+            d = self._resolve_call(i, st, self.behs[f.beh].b)
             if d is None:
                 params = st.operation.parameters
                 args = tuple(_coerce(p.type, self._eval_ref(ctx, a)) for p, a in zip(params, st.args, strict=False))

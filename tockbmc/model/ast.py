@@ -11,6 +11,7 @@ import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.position import Pos as Pos  # re-exported: every node carries one
@@ -246,24 +247,40 @@ def in_interfaces(v: Variable, interfaces: Iterable[str]) -> bool:
     return v.owner in names or v.owner.rsplit("::", 1)[-1] in names
 
 
-CALLER_PROVIDES = ("operation {op} requires variable {v}, which {caller}, the operation calling it, declares; "
-                   "a required variable provided by a calling operation is not supported yet")
+def provided_for(caller: Behaviour, op: OperationDef) -> OperationDef:
+    """`op` as `caller` runs it: each variable `op` requires that the operation `caller` declares is
+    that very variable of `caller` (RoboChart: the calling operation provides it), read and written
+    in its place; `op` itself when there is none."""
+    if not isinstance(caller, OperationDef):
+        return op
+    declared = {v.name: v for v in (*caller.variables, *caller.parameters) if not v.constant}
+    mapping = {id(v): declared[v.name] for v in op.interface_variables if v.name in declared and not v.constant}
+    if not mapping:
+        return op
+    body = _with_variables((op.nodes, op.transitions), mapping)
+    return dataclasses.replace(op, nodes=body[0], transitions=body[1],
+                               interface_variables=tuple(v for v in op.interface_variables if id(v) not in mapping))
+
+
+def _with_variables(x: Any, mapping: dict[int, Variable]) -> Any:
+    """`x` (statements, expressions, nodes, transitions) with each variable `v` whose id `mapping`
+    holds replaced by `mapping[id(v)]`; unchanged parts are kept as they are."""
+    if isinstance(x, Variable):
+        return mapping.get(id(x), x)
+    if isinstance(x, tuple):
+        items = tuple(_with_variables(i, mapping) for i in x)
+        return items if any(a is not b for a, b in zip(items, x, strict=True)) else x
+    if isinstance(x, (Expr, Stmt, Node, Transition, Trigger)):
+        changes = {f.name: _with_variables(getattr(x, f.name), mapping) for f in dataclasses.fields(x)}
+        changed = {k: v for k, v in changes.items() if v is not getattr(x, k)}
+        return dataclasses.replace(x, **changed) if changed else x
+    return x
 
 
 def unchecked_function(f: Function) -> str:
     """Why a call of a function whose conditions do not type-check is not supported."""
     return (f"function {f.name}'s conditions do not type-check, which RoboTool does not check there: "
             f"{f.unchecked}")
-
-
-def provided_by_caller(caller: Behaviour, op: Behaviour) -> Variable | None:
-    """A variable `op` requires that the operation calling it declares (RoboChart: the caller
-    provides it), which neither engine resolves yet; None if there is none.  A machine that
-    declares a variable an operation it calls requires provides it: both engines resolve that."""
-    if not isinstance(caller, OperationDef):
-        return None
-    declared = {v.name for v in (*caller.variables, *caller.parameters) if not v.constant}
-    return next((v for v in op.interface_variables if v.name in declared and not v.constant), None)
 
 
 def assignable(target: Type, value: Type) -> bool:

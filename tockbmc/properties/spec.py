@@ -850,7 +850,7 @@ class Semantics:
         if isinstance(p, Deadline) and p.event is False:
             return []
         if isinstance(p, EndBy):
-            return [EndBy(q, p.d, p.n) for q in self.taus(p.p)] + ([Omega()] if self.ticks(p.p) else [])
+            return [EndBy(q, p.d, p.n) for q in self.taus(p.p)]  # once p can terminate, so can EndBy (`ticks`)
         if not isinstance(p, Binary):
             return []
         left, right = p.left, p.right
