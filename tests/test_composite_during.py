@@ -128,3 +128,84 @@ def test_robotool_s_example1_in_both_engines() -> None:
     [bmc] = check(project, ["A1"], bound=40, ranges=ranges, timeout=60)
     [explicit] = check_explicit(project, ["A1"], 40, ranges, {}, 60)
     assert bmc.verdict == explicit.verdict == Verdict.HOLDS
+
+
+REENTRY = """\
+stm M {
+  event c
+  event d
+  event b : int
+  initial i
+  state S {
+    during b!1
+    initial j
+    state P { }
+    transition u0 { from j to P }
+  }
+  state T {
+    during b!2
+    initial k
+    state Q { }
+    transition v0 { from k to Q }
+  }
+  transition t0 { from i to S }
+  transition t1 { from S to S trigger c }
+  transition t2 { from S to T trigger d }
+}
+"""
+
+
+@pytest.mark.parametrize("spec, trace", [
+    # re-entering S by its self-transition restarts its during action (b.1 again after c)
+    ("Spec = M::b.out.1 -> Spec [] M::c.in -> After [] M::d.in -> Stop [] tock -> Spec\n"
+     "  After = M::c.in -> After [] M::d.in -> Stop [] tock -> After\n"
+     "  Stop = tock -> Stop", ["M::c.in", "M::b.out.1"]),
+    # entering T from S starts T's during action (b.2 after d)
+    ("Spec = M::b.out.1 -> Spec [] M::c.in -> Spec [] M::d.in -> InT [] tock -> Spec\n"
+     "  InT = tock -> InT", ["M::d.in", "M::b.out.2"]),
+])
+def test_a_transition_without_actions_restarts_or_starts_a_during_action(tmp_path: Path, spec: str,
+                                                                      trace: list[str]) -> None:
+    """A transition with no exit, transition or entry action in between is one step from the state
+    left to the child entered, which is also the step that starts the entered state's during action
+    (session 13 review: BMC's product first copied such steps to the child without its action)."""
+    assertions = f"timed csp Spec csp-begin\n  {spec}\ncsp-end\nassertion R: M refines Spec in the traces model.\n"
+    project = load(write_files(tmp_path / "m", {"m.rct": REENTRY, "m.assertions": assertions}))
+    bmc, explicit = both_engines(project, RANGES, 20)
+    for results in (bmc, explicit):
+        [r] = results
+        assert r.verdict == Verdict.VIOLATED
+        assert [s.event for s in r.trace if s.kind in ("event", "tock")] == trace
+
+
+def test_variables_named_like_the_machine_s_bookkeeping_stay_apart(tmp_path: Path) -> None:
+    """A variable `during_wait` (or `deadline`, `loc`) is not the during action's wait counter
+    (session 13 review: both were the scalar `M.during_wait`, so the assignment cut the wait short)."""
+    model = """\
+stm M {
+  var during_wait : int = 0
+  var loc : int = 0
+  event c
+  event b : int
+  initial i
+  state S {
+    during wait(2) ; b!1
+    initial j
+    state P { }
+    transition u0 { from j to P }
+    transition u1 { from P to P trigger c action during_wait = 0 ; loc = 5 }
+  }
+  transition t0 { from i to S }
+}
+"""
+    spec = """\
+timed csp Spec csp-begin
+  Spec = M::c.in -> Spec [] tock -> Spec1
+  Spec1 = M::c.in -> Spec1 [] tock -> Any
+  Any = M::c.in -> Any [] M::b.out?v -> Any [] tock -> Any
+csp-end
+assertion R: M refines Spec in the traces model.
+"""
+    project = load(write_files(tmp_path / "m", {"m.rct": model, "m.assertions": spec}))
+    bmc, explicit = both_engines(project, RANGES, 20)
+    assert [r.verdict for r in bmc] == [r.verdict for r in explicit] == [Verdict.HOLDS]

@@ -31,6 +31,7 @@ from multiprocessing.connection import Connection
 
 import z3
 
+from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import constants, subterms
 from tockbmc.encodings.values import leaves
@@ -207,17 +208,17 @@ def describe(system: TransitionSystem, invariant: z3.BoolRef, most: int = 2000) 
     """The invariant in the model's names: `EXAX at time_check`, `UR.curr_waypoint`, `monitor`."""
     where: dict[int, str] = {}  # id of a location slot -> its component
     for comp in system.components:
-        where[system.cur[f"{comp.name}.loc"].get_id()] = comp.name
+        where[system.cur[names.location(comp.name)].get_id()] = comp.name
     located = {comp.name: comp.automaton.locations for comp in system.components}
-    names = {system.cur[n].get_id(): n for n in system.sorts}
+    named = {system.cur[n].get_id(): n for n in system.sorts}
 
     def text(t: z3.ExprRef, top: bool = False) -> str:
         if z3.is_true(t) or z3.is_false(t):
             return str(z3.is_true(t)).lower()
         if z3.is_int_value(t) or z3.is_rational_value(t):
             return str(t)
-        if z3.is_const(t) and t.get_id() in names:
-            return names[t.get_id()]
+        if z3.is_const(t) and t.get_id() in named:
+            return named[t.get_id()]
         if z3.is_const(t):
             return str(t).removesuffix("@0")
         if not z3.is_app(t):  # a quantifier or a bound variable: Z3's own text
@@ -229,7 +230,7 @@ def describe(system: TransitionSystem, invariant: z3.BoolRef, most: int = 2000) 
                     comp = where[a.get_id()]
                     locations = located[comp]
                     i = b.as_long()  # type: ignore[attr-defined]
-                    return f"{comp} at {locations[i].description}" if 0 <= i < len(locations) else f"{comp}.loc = {i}"
+                    return f"{comp} at {locations[i].description}" if 0 <= i < len(locations) else f"{names.location(comp)} = {i}"
             out = f"{text(args[0])} = {text(args[1])}"
         elif kind == z3.Z3_OP_NOT:
             inner = args[0]

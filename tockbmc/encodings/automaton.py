@@ -318,8 +318,7 @@ class _Builder:
         # The machine starts by taking its top-level initial transition.
         self._start(start)
         self._transitions()
-        for path, state in self.threaded.items():
-            self._thread(state, self.thread_starts[path])
+        self._threads()
         if self.threaded:
             self.a.prune()  # the product leaves its templates and the children's side alone unreachable
         return self.a
@@ -525,60 +524,70 @@ class _Builder:
                                          if loc.index != self.stable[state.path]]
         return self.during_start[state.path]
 
-    def _thread(self, state: ast.Node, starts: list[int]) -> None:
-        """Run composite `state`'s during action beside its children: a product of two threads.
+    def _threads(self) -> None:
+        """Run each composite state's during action beside its children: a product of two threads.
 
-        The children's side is every location reached from the child locations that `starts`
-        (the steps entering `state`'s first child) lead to, without leaving `state`; the during
+        For a state S, the children's side is every location reached from the child locations that
+        S's starts (the steps entering S's first child) lead to, without leaving S; the during
         action's side is its own statements, built here once as a template.  Each pair is a
-        location; a child's step keeps the during action where it is, a step of the during
-        action (thread 1) keeps the children where they are, and a step leaving `state` leaves
-        the during action behind (docs/semantics.md §4.1)."""
-        assert state.during is not None
+        location; a child's step keeps the during action where it is, a step of the during action
+        (thread 1) keeps the children where they are, and a step leaving S leaves the during action
+        behind (docs/semantics.md §4.1).  Every state's pairs are made before any step is copied,
+        so that a step that leaves one state and enters another, or re-enters the same one (folded
+        by `_goto` into the step that starts its thread), starts the thread it enters."""
         a = self.a
-        active = self.chain(state.path)
-        first = len(a.locations)
-        first_edge = len(a.edges)
-        d0 = self._location(f"{state.path}: during", active)
-        self._stmt(d0, state.during, active, f"{state.path}: during")
-        template = a.locations[first:]
-        steps = a.edges[first_edge:]
-        # The children's side: closed under the children's steps that stay inside `state`.
+        built: list[tuple[str, int, list[Location], list[Edge], list[int], dict[tuple[int, int], int]]] = []
+        for path, state in self.threaded.items():
+            assert state.during is not None
+            active = self.chain(path)
+            first, first_edge = len(a.locations), len(a.edges)
+            d0 = self._location(f"{path}: during", active)
+            self._stmt(d0, state.during, active, f"{path}: during")
+            template, steps = a.locations[first:], a.edges[first_edge:]
+            side = self._side(path, [a.edges[s].target for s in self.thread_starts[path]])
+            pair: dict[tuple[int, int], int] = {}
+            for c in side:
+                loc = a.locations[c]
+                for d in template:
+                    pair[c, d.index] = a.location(f"{loc.description} ∥ {d.description}", loc.active, loc.kind,
+                                                  loc.deadline)
+                    a.locations[pair[c, d.index]] = dataclasses.replace(a.locations[pair[c, d.index]],
+                                                                        during_waiting=d.kind == "waiting")
+            built.append((path, d0, template, steps, side, pair))
+        start = {s: pair[a.edges[s].target, d0] for path, d0, _t, _s, _side, pair in built
+                 for s in self.thread_starts[path]}
+        for path, _d0, template, steps, side, pair in built:
+            for c in side:
+                for e in a.edges_from(c):
+                    for d in template:
+                        target = start.get(e.index, e.target) if path in e.exits else pair[e.target, d.index]
+                        a.copy_edge(e, pair[c, d.index], target)
+            for e in steps:
+                for c in side:
+                    a.copy_edge(e, pair[c, e.source], pair[c, e.target], thread=1)
+        for s, target in start.items():
+            a.retarget(a.edges[s], target)
+        for _path, _d0, template, _steps, side, pair in built:
+            a.trigger_deadlines = [
+                dataclasses.replace(td, armed=td.armed | {pair[c, d.index] for c in td.armed & set(side)
+                                                          for d in template})
+                for td in a.trigger_deadlines]
+
+    def _side(self, path: str, entered: list[int]) -> list[int]:
+        """The locations reached from `entered` by steps that stay inside state `path`."""
         side: list[int] = []
         seen: set[int] = set()
-        todo = [a.edges[s].target for s in starts]
+        todo = list(entered)
         while todo:
             c = todo.pop()
             if c in seen:
                 continue
             seen.add(c)
             side.append(c)
-            for e in a.edges_from(c):
-                if state.path not in e.exits:
-                    todo.append(e.target)
-        pair: dict[tuple[int, int], int] = {}
-        for c in side:
-            loc = a.locations[c]
-            if state.path not in loc.active:  # pragma: no cover - every step inside keeps `state` active
-                raise Unsupported(state.during.pos, f"a step of {state.path}'s children leaves it without exiting it")
-            for d in template:
-                pair[c, d.index] = a.location(f"{loc.description} ∥ {d.description}", loc.active, loc.kind,
-                                              loc.deadline)
-                a.locations[pair[c, d.index]] = dataclasses.replace(a.locations[pair[c, d.index]],
-                                                                    during_waiting=d.kind == "waiting")
-        for c in side:
-            for e in a.edges_from(c):
-                for d in template:
-                    target = e.target if state.path in e.exits else pair[e.target, d.index]
-                    a.copy_edge(e, pair[c, d.index], target)
-        for e in steps:
-            for c in side:
-                a.copy_edge(e, pair[c, e.source], pair[c, e.target], thread=1)
-        for s in starts:
-            a.retarget(a.edges[s], pair[a.edges[s].target, d0])
-        a.trigger_deadlines = [
-            dataclasses.replace(td, armed=td.armed | {pair[c, d.index] for c in td.armed & seen for d in template})
-            for td in a.trigger_deadlines]
+            if path not in self.a.locations[c].active:  # pragma: no cover - every step inside keeps it active
+                raise Unsupported(self._nodes[path].pos, f"a step of {path}'s children leaves it without exiting it")
+            todo += [e.target for e in self.a.edges_from(c) if path not in e.exits]
+        return side
 
     def _goto(self, cur: int, target: int, pos: ast.Pos | None = None) -> int:
         """Continue at `target`: redirect the one step into `cur` when that loses nothing; returns

@@ -68,13 +68,14 @@ def _variants(t: ast.EnumType) -> z3.DatatypeSortRef:
     declaration order, whose fields are the literal's parameters (`EM3(nat)`: `EM3` with field
     `EM3.1`); made once per context, as `_datatype`'s are."""
     ctx = z3.main_ctx()
-    kept: dict[ast.Type, z3.DatatypeSortRef] = ctx.__dict__.setdefault("tockbmc_datatypes", {})
-    if t not in kept:
+    kept: dict[object, z3.DatatypeSortRef] = ctx.__dict__.setdefault("tockbmc_datatypes", {})
+    key = (t, t.params)  # `params` is left out of an EnumType's equality
+    if key not in kept:
         dt = z3.Datatype(t.qname)
         for lit, params in zip(t.literals, t.params, strict=True):
             dt.declare(f"{t.qname}::{lit}", *[(f"{t.qname}::{lit}.{i}", sort_of(pt)) for i, pt in enumerate(params, 1)])
-        kept[t] = dt.create()
-    return kept[t]
+        kept[key] = dt.create()
+    return kept[key]
 
 
 def variant(t: ast.EnumType, literal: str, args: list[Value]) -> z3.ExprRef:
