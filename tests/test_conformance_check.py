@@ -63,6 +63,8 @@ UNDECIDED = {
     ("test1", "t1b"): "timed_test1_spec hides a channel of its own (`channel int__`, read since session 11); "
                       "`S equals` it is not decided in this suite's time (BMC times out at depth 12; the explicit "
                       "engine finds its traces too many to list; t1a, the untimed one, holds)",
+    ("test15", "A0"): "checked since session 13 (RoboTool's record field test15_DT_p in STMSpec): STMSpec's traces, a "
+                      "received record then tocks, are more than 256 at half the bound",
     ("clocks8", "A0"): "a composite state's during action beside its child (session 13): BMC times out at depth 10; "
                        "holds at bound 40 by Spacer's invariant, and in the explicit engine",
     ("clocks4-required", "A2"): "tick-tock, Spec on the left: Mod makes Spec's observations (five tocks, two "

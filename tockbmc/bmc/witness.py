@@ -272,7 +272,7 @@ def _changed(u: Unroller, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]
             old = model.eval(before[name], model_completion=True)
             if (name in written or (i == 0 and initial is not None)
                     or not z3.is_true(model.eval(new == old, model_completion=True))):
-                out[name] = scalar_text(after[name], model, leaf_type(t, path))
+                out[name.replace("#", "")] = scalar_text(after[name], model, leaf_type(t, path))  # `M.loc#`: names.variable
     return out
 
 

@@ -1,9 +1,7 @@
 """The names of a configuration's scalars and of a step's inputs: made here and nowhere else.
 
-A configuration is a flat set of named scalars (`EXAX#loc`, `EXAX#clock.C`, `EXAX.x` for a
-variable, `buffer0.full`, `monitor`); the unroller appends `@k` to name one at step k.  A
-machine's bookkeeping scalars are marked with `#`, which no RoboChart name contains, so that they
-never meet a variable's (a variable `loc`, or `clock` with a field `C`).
+A configuration is a flat set of named scalars (`EXAX.loc`, `EXAX.clock.C`,
+`buffer0.full`, `monitor`); the unroller appends `@k` to name one at step k.
 """
 
 from __future__ import annotations
@@ -11,32 +9,39 @@ from __future__ import annotations
 
 def location(component: str) -> str:
     """The machine's location in its automaton."""
-    return f"{component}#loc"
+    return f"{component}.loc"
 
 
 def wait(component: str, thread: int = 0) -> str:
     """Tocks left of a running `wait`; thread 1 is a composite state's `during` action, which runs
     beside the state's children (docs/semantics.md §4.1) and has a `wait` of its own."""
-    return f"{component}#wait" if thread == 0 else f"{component}#during_wait"
+    return f"{component}.wait" if thread == 0 else f"{component}.during_wait"
 
 
 def deadline(component: str) -> str:
     """Tocks left of a statement deadline."""
-    return f"{component}#deadline"
+    return f"{component}.deadline"
 
 
 def clock(component: str, name: str) -> str:
-    return f"{component}#clock.{name}"
+    return f"{component}.clock.{name}"
 
 
 def armed(component: str, transition: str) -> str:
     """Tocks that a trigger deadline's transition has waited armed."""
-    return f"{component}#armed.{transition}"
+    return f"{component}.armed.{transition}"
+
+
+# The machine's bookkeeping scalars above are `M.<word>`: a variable of one of these names is kept
+# apart from them by a `#` (no RoboChart name has one), so that `var loc : int` is not `M.loc`.
+_BOOKKEEPING = frozenset({"loc", "wait", "during_wait", "deadline", "clock", "armed", "wait_length"})
 
 
 def variable(component: str, name: str, operation: str = "") -> str:
     """A machine's own variable (or an inlined operation's: `M.op().x`)."""
-    return f"{component}.{operation}().{name}" if operation else f"{component}.{name}"
+    if operation:
+        return f"{component}.{operation}().{name}"
+    return f"{component}.{name}#" if name in _BOOKKEEPING else f"{component}.{name}"
 
 
 def constant(component: str, name: str) -> str:
@@ -44,11 +49,11 @@ def constant(component: str, name: str) -> str:
 
 
 def buffer_full(link: int) -> str:
-    return f"buffer#{link}.full"
+    return f"buffer{link}.full"
 
 
 def buffer_value(link: int) -> str:
-    return f"buffer#{link}.value"
+    return f"buffer{link}.value"
 
 
 def input_value(event: str) -> str:
@@ -58,25 +63,25 @@ def input_value(event: str) -> str:
 
 def fresh_value(slot: str) -> str:
     """Any value of a variable's type, chosen during a step (an operation's uninitialised variable)."""
-    return f"{slot}#fresh"
+    return f"{slot}.fresh"
 
 
 def wait_length(component: str) -> str:
     """The length a `wait(a, b)` picks during the step that starts it."""
-    return f"{component}#wait_length"
+    return f"{component}.wait_length"
 
 
 PREVIOUS = "prev"  # the move the step before took (-1 before the first): orders independent internal steps
 MONITOR = "monitor"  # a specification monitor's state (properties.process)
 FOLLOW = "follow"  # how much of a specification trace the model has done (properties.inclusion)
-LOOP_SAVED = "loop#saved"  # divergence: a configuration has been saved (properties.deadlock)
-LOOP_SAVE = "loop#save"  # divergence: the configuration is saved in this step
+LOOP_SAVED = "loop.saved"  # divergence: a configuration has been saved (properties.deadlock)
+LOOP_SAVE = "loop.save"  # divergence: the configuration is saved in this step
 
 
 def loop_copy(slot: str) -> str:
     """The saved copy of a scalar (divergence)."""
-    return f"loop#copy.{slot}"
+    return f"loop.copy.{slot}"
 
 
 def is_loop_slot(slot: str) -> bool:
-    return slot.startswith("loop#")
+    return slot.startswith("loop.")

@@ -961,21 +961,25 @@ def element_types(element: ast.StateMachine | ast.Controller | ast.Module) -> di
     """The channels of `element_alphabet`, each with the types of its values."""
     name = element.name
     machines: list[ast.StateMachine] = []
+    defined: list[ast.OperationDef] = []  # a controller's operations: the calls they make are its too
     events: list[tuple[str, ast.Event]] = []
     if isinstance(element, ast.StateMachine):
         machines = [element]
     elif isinstance(element, ast.Controller):
         machines = [m.machine for m in element.machines]
+        defined = [oi.operation for oi in element.operations]
         events += [(name, e) for e in element.events]
     else:
         for ci in element.controllers:
             machines += [m.machine for m in ci.controller.machines]
+            defined += [oi.operation for oi in ci.controller.operations]
             events += [(ci.controller.name, e) for e in ci.controller.events]
         if element.platform is not None:
             events += [(name, e) for e in element.platform.events]
     out: dict[tuple, tuple[ast.Type, ...]] = {(f"{name}::terminate",): ()}
-    for m in machines:
-        events += [(m.name, e) for e in m.events]
+    for m in (*machines, *defined):
+        if isinstance(m, ast.StateMachine):
+            events += [(m.name, e) for e in m.events]
         for op in m.operations:
             out.setdefault(("::".join(f"{name}::{op.name}Call".split("::")[-2:]),),
                            tuple(p.type for p in op.parameters))
