@@ -129,3 +129,11 @@ assertion E: S refines Echo in the traces model.
     project = load(write_files(tmp_path / "m", {"m.rct": MODEL, "m.assertions": spec}))
     [r] = check(project, bound=12, ranges=_ranges(1))
     assert r.verdict in (Verdict.UNSUPPORTED, Verdict.UNKNOWN), (r.verdict, r.reason)
+
+
+def test_a_literal_with_parameters_beside_an_imported_toolkit(tmp_path: Path) -> None:
+    """With a toolkit imported, `EM3(1)` is still the literal, not an unknown toolkit function (the
+    differential's `--enums --data` cases were all refused so until session 13's end)."""
+    project = load(write_files(tmp_path / "m", {"m.rct": "import sequence_toolkit::*\n" + MODEL}))
+    [machine] = project.machines
+    assert {v.name: str(v.initial.args[0].value) for v in machine.variables if v.name == "o"} == {"o": "1"}

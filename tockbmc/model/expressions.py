@@ -366,9 +366,6 @@ class ExprChecker:
             if var is not None:
                 if not isinstance(var.type, ast.ErrorType):  # else its type was already reported
                     self.error(callee, f"'{name}' is a variable of type {var.type}, not a function")
-            elif self.scope.toolkit:
-                self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
-                           f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             elif self._is_literal(name):
                 enum = (self.scope.resolve_global(name, "enum_literal") if "::" not in name
                         else self.scope.resolve_global(name.rpartition("::")[0], "type"))
@@ -383,6 +380,9 @@ class ExprChecker:
                 self.error(callee, f"'{name}' is an enumeration literal without parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
+            elif self.scope.toolkit:  # after the literals: `V1(0)` is a literal with a toolkit imported too
+                self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
+                           f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             else:
                 self._unknown(callee, "function", name, self.scope.global_names("function"))
             for a in args_nodes:
