@@ -475,10 +475,7 @@ def test_a_specification_reads_a_received_record_s_fields_as_robotool_writes_the
     """RoboTool's `pkg_R_f(x)` reads field f of record x (test15's `test15_DT_p(x)`), and of a tuple the
     part in f's place, RoboTool writing a record as the tuple of its fields: `P_DT_p((a, 1))` is 1.
     Sum outputs p + q, as the machine does; Wrong outputs 1 + q.  Both engines."""
-    project = tockbmc.load(write_files(tmp_path / "rec", {"m.rct": RECORD_MODEL, "m.assertions": RECORD_SPECS}))
-    config = configure(project, NAT)
-    bmc = {r.assertion: r for r in check(project, bound=20, config=config)}
-    explicit = {r.assertion: r for r in check_explicit(project, None, 8, NAT, {}, 60, config=config)}
+    bmc, explicit = both(tmp_path, RECORD_MODEL, RECORD_SPECS)
     assert {k: r.verdict for k, r in bmc.items()} == {k: r.verdict for k, r in explicit.items()} == {
         "S": "holds", "W": "violated"}
     for r in (bmc["W"], explicit["W"]):

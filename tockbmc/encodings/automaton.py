@@ -106,8 +106,8 @@ class Automaton:
     _clocks: tuple[tuple[int, int], tuple[str, ...]] = field(default=((-1, -1), ()), repr=False, compare=False)
 
     def location(self, description: str, active: tuple[str, ...], kind: str = "action",
-                 deadline: bool = False) -> int:
-        self.locations.append(Location(len(self.locations), description, active, kind, deadline))
+                 deadline: bool = False, during_waiting: bool = False) -> int:
+        self.locations.append(Location(len(self.locations), description, active, kind, deadline, during_waiting))
         return len(self.locations) - 1
 
     def edge(self, source: int, target: int, kind: str, **kw: object) -> Edge:
@@ -550,9 +550,7 @@ class _Builder:
                 loc = a.locations[c]
                 for d in template:
                     pair[c, d.index] = a.location(f"{loc.description} ∥ {d.description}", loc.active, loc.kind,
-                                                  loc.deadline)
-                    a.locations[pair[c, d.index]] = dataclasses.replace(a.locations[pair[c, d.index]],
-                                                                        during_waiting=d.kind == "waiting")
+                                                  loc.deadline, during_waiting=d.kind == "waiting")
             built.append((path, d0, template, steps, side, pair))
         start = {s: pair[a.edges[s].target, d0] for path, d0, _t, _s, _side, pair in built
                  for s in self.thread_starts[path]}

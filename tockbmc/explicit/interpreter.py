@@ -1062,7 +1062,7 @@ class Interpreter:
                 d = self._resolve_call(i, st, b)
                 if d is not None:
                     di = self._beh(d, True)
-                    if di in stack or di == bi or any(self.behs[s].b.qname == d.qname for s in (*stack, bi)):
+                    if any(self.behs[s].b.qname == d.qname for s in (*stack, bi)):  # the copies of `provided_for` too
                         raise NotInterpretable(st.pos, f"recursive operation {d.name}")
                     self._scan(i, di, [*stack, bi])
 
@@ -1256,8 +1256,6 @@ class Interpreter:
             return None
         if t == ast.BOOLEAN:
             return rng.choice((False, True))
-        if isinstance(t, ast.EnumType) and not t.params:
-            return f"{t.name}::{rng.choice(t.literals)}"
         if isinstance(t, ast.EnumType):
             lit = rng.choice(t.literals)
             ps = t.parameters(lit)
