@@ -136,8 +136,15 @@ def test_engines_agree_on_random_controllers_with_a_bidirectional_connection(cas
     _agree(*case)
 
 
+# Seconds for each engine on an assertion: an outcome past it is only not compared.  8, not the
+# benchmark's 20, since session 14: the second of the default run's random machines has an
+# assertion (A8, determinism, with a clock and a deadline) that BMC does not decide in 60 s (the
+# explicit engine: holds in 1.6 s), and it cost 20 s of the suite's time.
+TIMEOUT = 8
+
+
 def _agree(rct: str, assertions: str, ranges: object = None) -> None:
-    wrong = [o for o in compare(rct, assertions, ranges=ranges or _cases.RANGES) if o.agree is False]
+    wrong = [o for o in compare(rct, assertions, ranges=ranges or _cases.RANGES, timeout=TIMEOUT) if o.agree is False]
     assert not wrong, (rct, wrong)
 
 
