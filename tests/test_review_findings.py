@@ -6,6 +6,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from conftest import both_engines
 from test_semantics_rules import expect, run
 
 from tockbmc import load
@@ -141,3 +142,68 @@ controller C {
 """
     rs = run(tmp_path, rct, "assertion D: C is deadlock-free.\n")
     assert rs["D"].verdict == "unsupported" and "itself" in (rs["D"].reason or ""), rs["D"].reason
+
+
+LOOP = """
+stm loop {
+  var saved : int = 0
+  event a
+  initial i
+  junction J
+  state S {}
+  transition t0 { from i to J }
+  transition t1 { from J to J condition saved < 3 action saved = saved + 1 }
+  transition t2 { from J to S condition saved >= 3 }
+  transition t3 { from S to S trigger a }
+}
+"""
+
+BUFFER0 = """
+interface I { event c : int }
+controller C {
+  sref s = buffer0
+  sref r = R
+  connection s on c to r on c ( _async )
+}
+stm buffer0 {
+  uses I
+  var full : int = 5
+  var value : int = 7
+  initial i
+  state S {}
+  state T {}
+  transition t0 { from i to S }
+  transition t1 { from S to T condition full == 5 /\\ value == 7 action c!1 }
+}
+stm R {
+  uses I
+  var y : int = 0
+  initial i
+  state W {}
+  state D {}
+  transition t0 { from i to W }
+  transition t1 { from W to D trigger c?y }
+}
+"""
+
+
+@pytest.mark.parametrize(("rct", "assertions", "verdicts"), [
+    # `loop.saved` was both the divergence check's flag and this machine's variable, and every scalar
+    # of a machine named `loop` was left out of the configurations compared: BMC showed a divergence
+    # of one step (`loop.saved = true`) in a junction loop that ends after three.
+    (LOOP, "untimed assertion A: loop is divergence-free.\nassertion B: loop is divergence-free.\n",
+     {"A": "holds", "B": "holds"}),
+    # `buffer0.full` was both the connection's buffer flag and this machine's variable: BMC said C
+    # is deadlock-free, though it stops once R has received.
+    (BUFFER0, "assertion A: T is reachable in buffer0.\nassertion B: C is deadlock-free.\n",
+     {"A": "holds", "B": "violated"}),
+])
+def test_machines_named_like_the_global_scalars_stay_apart(tmp_path: Path, rct: str, assertions: str,
+                                                           verdicts: dict[str, str]) -> None:
+    (tmp_path / "m.rct").write_text(rct)
+    (tmp_path / "m.assertions").write_text(assertions)
+    project = load(tmp_path)
+    ranges = Ranges({"core_int": Range(Fraction(0), Fraction(7))})
+    symbolic, concrete = both_engines(project, ranges, 16)
+    for results in (symbolic, concrete):
+        assert {r.assertion: r.verdict for r in results} == verdicts, [(r.assertion, r.reason) for r in results]

@@ -41,7 +41,15 @@ def variable(component: str, name: str, operation: str = "") -> str:
     """A machine's own variable (or an inlined operation's: `M.op().x`)."""
     if operation:
         return f"{component}.{operation}().{name}"
-    return f"{component}.{name}#" if name in _BOOKKEEPING else f"{component}.{name}"
+    return f"{component}.{name}#" if name in _BOOKKEEPING or _global(component, name) else f"{component}.{name}"
+
+
+def _global(component: str, name: str) -> bool:
+    """Whether `component.name` is also the name of one of the scalars below that belong to no
+    machine: a machine named `loop` with `var saved`, or `buffer0` with `var full`."""
+    if component == "loop":
+        return name in ("saved", "save")
+    return component.startswith("buffer") and component[6:].isdigit() and name in ("full", "value")
 
 
 def constant(component: str, name: str) -> str:
@@ -84,4 +92,5 @@ def loop_copy(slot: str) -> str:
 
 
 def is_loop_slot(slot: str) -> bool:
-    return slot.startswith("loop.")
+    """The divergence check's own scalars (not a machine's: a machine may be named `loop`)."""
+    return slot in (LOOP_SAVED, LOOP_SAVE) or slot.startswith("loop.copy.")
