@@ -207,3 +207,28 @@ def test_machines_named_like_the_global_scalars_stay_apart(tmp_path: Path, rct: 
     symbolic, concrete = both_engines(project, ranges, 16)
     for results in (symbolic, concrete):
         assert {r.assertion: r.verdict for r in results} == verdicts, [(r.assertion, r.reason) for r in results]
+
+
+def test_replay_looks_for_the_cycle_of_a_divergence(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Replay follows a divergence's visible steps and then needs a cycle of internal steps where
+    they end (it used to accept any lasso whose visible steps it could follow)."""
+    from tockbmc.explicit import replay
+    from tockbmc.explicit.engine import python_settings, ranges_dict
+    from tockbmc.explicit.interpreter import Interpreter
+    from tockbmc.model.config import configure
+    from tockbmc.properties.queries import query
+
+    def start(action: str, condition: str = "saved < 3") -> tuple[Interpreter, object]:
+        (tmp_path / "m.rct").write_text(LOOP.replace("saved = saved + 1", action).replace("saved < 3", condition))
+        (tmp_path / "m.assertions").write_text("untimed assertion A: loop is divergence-free.\n")
+        project = load(tmp_path)
+        q = query(configure(project, Ranges()).project, project.assertions[0])
+        interp = Interpreter(q.element, ranges_dict(Ranges()), python_settings({}), dict(q.defined), timed=q.timed)
+        [first] = interp.initial({})
+        return interp, first
+
+    assert not replay.can_diverge(*start("saved = saved + 1"))  # three turns of the junction, then S
+    assert replay.can_diverge(*start("saved = saved"))  # the same configuration again
+    monkeypatch.setattr(replay, "LIMIT", 500)
+    with pytest.raises(replay.ReplayFailure, match="no cycle of internal steps among 500"):
+        replay.can_diverge(*start("saved = saved + 1", "true"))  # for ever, never the same

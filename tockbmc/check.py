@@ -30,7 +30,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
-from tockbmc.properties.deadlock import refuses_everything
+from tockbmc.properties.deadlock import diverges, refuses_everything, untimed_deadlocked
 from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.failures import FAILURES_MODELS
 from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
@@ -455,7 +455,7 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
     not interpret); raises `ReplayFailure` when it runs it but cannot follow the trace.
     """
     from tockbmc.explicit.engine import is_state
-    from tockbmc.explicit.replay import replay, replay_watched
+    from tockbmc.explicit.replay import can_diverge, replay, replay_watched
 
     def follow(interp: Interpreter) -> None:
         if goal.failures:
@@ -464,6 +464,10 @@ def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: 
             return
 
         def final(config: object, steps: list) -> bool:
+            if goal.target is diverges:  # the lasso: internal steps go on for ever from here
+                return can_diverge(interp, config, q.context)  # type: ignore[arg-type]
+            if goal.target is untimed_deadlocked:
+                return not steps or can_diverge(interp, config, q.context)  # type: ignore[arg-type]
             if goal.target is terminated:
                 return interp.terminated(config)  # type: ignore[arg-type]
             if goal.target is stuck:

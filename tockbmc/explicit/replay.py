@@ -119,6 +119,35 @@ def replay_watched(interp: Interpreter, trace: tuple[TraceStep, ...], choices: d
 _OUTSIDE = ("before the model starts", "after the model terminates")
 
 
+def can_diverge(interp: Interpreter, config: Config, context: Context | None = None) -> bool:
+    """Whether internal steps alone (hidden events included) lead from `config` into a cycle: the
+    end of a divergence BMC shows as a lasso (the engines cut internal work into steps
+    differently, so the cycle is looked for afresh, not matched step by step).  Raises
+    `ReplayFailure` when no cycle is found among the first `LIMIT` configurations."""
+    def internal(c: Config) -> list[Config]:
+        return [s.target for s in interp.steps(c)
+                if s.kind == "internal" or (s.kind == "event" and _status(context, s) == "hidden")]
+
+    # Depth-first, with the configurations on the current path ("grey") told from finished ones.
+    on_path, done = {config}, set[Config]()
+    stack = [(config, iter(internal(config)))]
+    while stack:
+        c, nexts = stack[-1]
+        nxt = next(nexts, None)
+        if nxt is None:
+            stack.pop()
+            on_path.discard(c)
+            done.add(c)
+        elif nxt in on_path:
+            return True
+        elif nxt not in done:
+            if len(done) + len(on_path) >= LIMIT:
+                raise ReplayFailure(0, "a divergence", f"no cycle of internal steps among {LIMIT:,} configurations")
+            on_path.add(nxt)
+            stack.append((nxt, iter(internal(nxt))))
+    return False
+
+
 def _status(context: Context | None, s: Step) -> str:
     if context is None or s.event is None:
         return "visible"
