@@ -77,6 +77,18 @@ def test_closed_stdout_prints_nothing_and_keeps_the_status() -> None:
     assert closed.returncode == 10
 
 
+def test_a_usage_error_found_by_worker_processes_prints_no_traceback(tmp_path: Path) -> None:
+    """`check --engine explicit -j 2` on unbounded data: the workers find it, and the usage error
+    was followed by multiprocessing's tracebacks (the pool's semaphores cleaned up twice at exit)."""
+    write_files(tmp_path, {"m.rct": "stm M {\n  var x : int\n  event e : int\n  initial i\n  state s {}\n"
+                                    "  transition t0 { from i to s action e!x }\n}\n",
+                           "m.assertions": "assertion A: M is deadlock-free.\nassertion B: M terminates.\n"})
+    done = subprocess.run([*TOCKBMC, "check", str(tmp_path), "--engine", "explicit", "-j", "2", "--timeout", "20"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and "needs finite data" in done.stderr, done.stderr
+    assert "Traceback" not in done.stderr and "leaked" not in done.stderr, done.stderr
+
+
 def test_symbols_a_narrow_encoding_lacks_are_spelt_in_ascii(tmp_path: Path) -> None:
     """With a Latin-1 terminal, `τ` is `tau`, `✓` is `tick`, `→` is `->`, in traces and diagnostics."""
     def latin() -> io.TextIOWrapper:

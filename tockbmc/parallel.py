@@ -212,7 +212,13 @@ def _taker(sink: Any) -> Callable[[], list[tuple[int, int | None]]]:
 def stop_servers() -> None:
     """End the fork server and the resource tracker, and wait for them.  Left to end when this
     process ends, they outlive it for a moment as orphans, which an init that does not reap
-    (a container's) keeps as zombies in the process group (farm-bench saw them after `check -j 2`)."""
+    (a container's) keeps as zombies in the process group (farm-bench saw them after `check -j 2`).
+
+    multiprocessing's own exit work (the finalizers of queues and semaphores still alive, such as a
+    pool's left by an error) is done first: run after the resource tracker has ended, it found
+    their semaphores already cleaned up and printed tracebacks (after a usage error of `check -j`)."""
+    with contextlib.suppress(Exception):
+        multiprocessing.util._exit_function()  # noqa: SLF001 - idempotent; no public way
     for owner in (forkserver._forkserver, resource_tracker._resource_tracker):  # noqa: SLF001 - no public way
         stop = getattr(owner, "_stop", None)
         if stop is not None:
