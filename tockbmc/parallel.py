@@ -29,7 +29,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from functools import lru_cache
-from multiprocessing import forkserver, resource_tracker
+from multiprocessing import forkserver, resource_tracker, util
 from typing import Any
 
 import z3
@@ -218,7 +218,7 @@ def stop_servers() -> None:
     pool's left by an error) is done first: run after the resource tracker has ended, it found
     their semaphores already cleaned up and printed tracebacks (after a usage error of `check -j`)."""
     with contextlib.suppress(Exception):
-        multiprocessing.util._exit_function()  # noqa: SLF001 - idempotent; no public way
+        util._exit_function()  # type: ignore[attr-defined]  # noqa: SLF001 - idempotent; no public way
     for owner in (forkserver._forkserver, resource_tracker._resource_tracker):  # noqa: SLF001 - no public way
         stop = getattr(owner, "_stop", None)
         if stop is not None:
