@@ -81,8 +81,9 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
         raise Unsupported(None, "the tick-tock model records refusals before each tock, and RoboTool's untimed "
                                 "semantics has no tock")
     if a.kind == "clock-initialised":
-        raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`: whether `since(C)` can be "
-                                "read before `#C` first resets it) is not checked yet")
+        raise Unsupported(None, "clock initialisation (`clock C is [not] initialised`): RoboTool's meaning for it "
+                                "was not found in any public source (docs/robotool-evidence.md §8), so it is not "
+                                "checked")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project),
                    _enumerations(project), _record_fields(project))
     sem = Semantics(ev, timed=timed)
