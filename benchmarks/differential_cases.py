@@ -327,7 +327,8 @@ UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is d
 # (every value of it), so M refines it in the failures model exactly where, stable and short of
 # termination, M offers every value of some channel; `AnyOrStop` may also refuse everything at the
 # start; `Ext` accepts every channel at once; `TAny`, in a Timed section, also accepts tock.  `Few`
-# and `Stopped` refine M (the specification on the left) where M has their traces and refusals.
+# and `Stopped` refine M (the specification on the left) where M has their traces and refusals;
+# `equals` and `is not equal to` (since session 14) check both directions.
 FAILURES = """csp FSpecs csp-begin
 Any = (M::a.in?x -> Any) |~| (M::b.out?x -> Any) |~| (M::c.in -> Any) |~| (M::c.out -> Any)
       |~| (M::opCall?x -> Any) |~| (M::terminate -> SKIP)
@@ -350,6 +351,8 @@ untimed assertion F3: M does not refine Any in the failures divergences model.
 timed assertion F4: M refines TAny in the failures model.
 untimed assertion F5: Few refines M in the failures model.
 untimed assertion F6: Stopped refines M in the failures divergences model.
+untimed assertion F7: M equals Few in the traces model.
+untimed assertion F8: M is not equal to Few in the failures divergences model.
 """
 
 

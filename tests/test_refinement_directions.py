@@ -18,6 +18,7 @@ from conftest import write_files
 
 import tockbmc
 from tockbmc.check import check
+from tockbmc.encodings.values import Ranges
 from tockbmc.model.result import Result
 
 MODEL = """
@@ -83,6 +84,22 @@ def test_spec_with_a_trace_the_model_lacks(tmp_path) -> None:
         assert r.verdict == verdict, (name, r.verdict, r.reason)
         events = [e for e in visible(r) if e != "tock"]
         assert events == ["M::a.in", "M::b.out", "M::a.in"], (name, visible(r))
+
+
+def test_is_not_equal_to_holds_when_either_direction_differs(tmp_path) -> None:
+    """`M is not equal to S3`: M refines S3, but S3 has a trace M lacks.  Both engines answered
+    `violated` (session 14): once M's own direction was shown to hold, the other was not checked."""
+    from tockbmc.explicit.engine import check_explicit
+
+    rs = run(tmp_path, "assertion N3: M is not equal to S3.\nassertion N2: M is not equal to S2.\n"
+                       "assertion N1: M is not equal to S1.\n")
+    concrete = {r.assertion: r for r in check_explicit(tockbmc.load(tmp_path), None, 10, Ranges(), {}, 60)}
+    for results in (rs, concrete):
+        for name, verdict in (("N3", "holds"), ("N2", "holds"), ("N1", "unknown")):
+            assert results[name].verdict == verdict, (name, results[name].reason)
+        events = [e for e in visible(results["N3"]) if e != "tock"]
+        assert events == ["M::a.in", "M::b.out", "M::a.in"], visible(results["N3"])
+    assert "bounded search alone" in (rs["N1"].reason or "")  # S1's traces are listed up to a length only
 
 
 def test_two_specifications_are_unsupported_and_two_models_checked(tmp_path) -> None:

@@ -127,12 +127,18 @@ class _Check:
                 q.context.sem.values = _values_of(q, self.ranges, consts)
             if q.determinism:
                 return self.deterministic(q, network, consts)
+            first: Result | None = None  # `is not equal to`: the first direction, when it shows no difference
             for goal in q.goals:
                 decided = self.search(q, goal, network, consts)
                 if decided is not None:
+                    if q.inclusion is not None and self.a.negated and decided.verdict != Verdict.HOLDS:
+                        first = decided  # the other direction may still tell them apart
+                        break
                     return decided
             if q.inclusion is not None:
                 decided = self.follow(q, network, consts)
+                if first is not None and (decided is None or decided.verdict != Verdict.HOLDS):
+                    return first if first.verdict == Verdict.UNKNOWN else decided or first
                 if decided is not None:
                     return decided
         except Unsupported as exc:

@@ -503,8 +503,14 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
             lazy = a.kind in LAZY_KINDS and a.semantic_model not in REFUSAL_MODELS  # refusals read every value
             search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
             decided = _decide(a, q, search, result)
-            if q.inclusion is None or decided.verdict != Verdict.HOLDS:
+            # On to the other direction when this one shows no difference: `equals`, once this one
+            # holds; `is not equal to`, once it is not shown to hold (it holds if either differs).
+            if q.inclusion is None or decided.verdict != Verdict.HOLDS and not a.negated or \
+                    a.negated and decided.verdict == Verdict.HOLDS:
                 return decided
+            search = Search(interpreter(False), q, bound, max_states, deadline, progress)
+            other = _included(a, q, search, result)
+            return other if other.verdict == Verdict.HOLDS or decided.verdict != Verdict.UNKNOWN else decided
         search = Search(interpreter(False), q, bound, max_states, deadline, progress)
         return _included(a, q, search, result)
     except Unsupported as exc:
