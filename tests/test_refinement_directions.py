@@ -102,6 +102,18 @@ def test_is_not_equal_to_holds_when_either_direction_differs(tmp_path) -> None:
     assert "bounded search alone" in (rs["N1"].reason or "")  # S1's traces are listed up to a length only
 
 
+def test_a_prefix_short_of_the_channel_s_fields_is_unsupported(tmp_path) -> None:
+    """`M::a -> STOP` for `event a` (whose events are M::a.in and M::a.out): FDR's type error; it had
+    matched none of M's events, so `S4 refines M` held with S4 as STOP."""
+    from tockbmc.explicit.engine import check_explicit
+
+    more = "timed csp S4 csp-begin\nTimed(OneStep) { S4 = M::a -> STOP }\ncsp-end\n"
+    rs = run(tmp_path, more + "assertion Q: S4 refines M in the traces model.\n")
+    concrete = check_explicit(tockbmc.load(tmp_path), None, 10, Ranges(), {}, 60)
+    for r in (rs["Q"], concrete[0]):
+        assert r.verdict == "unsupported" and "FDR rejects it as a type error" in (r.reason or ""), r.reason
+
+
 def test_two_specifications_are_unsupported_and_two_models_checked(tmp_path) -> None:
     """Between two model elements, the right one stands for the specification, as the state graph
     the interpreter lists (docs/semantics.md §7.5): M refines itself."""

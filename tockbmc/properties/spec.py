@@ -26,6 +26,7 @@ from lark import Token, Tree
 
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, canonical, pos_of
+from tockbmc.model.errors import Unsupported
 
 
 class _Other:
@@ -911,6 +912,20 @@ class Semantics:
                         if isinstance(x, Input) and x.used and self.field_values(prefix, j) is not None}
         return set()
 
+    def _complete(self, pattern: tuple, e: Event) -> None:
+        """Raise `Unsupported` where a prefix names a channel of the model with fewer fields than it
+        has (`M::a -> P` for `event a`, whose events are `M::a.in` and `M::a.out`): FDR rejects it as
+        a type error, and here it would match no event of the model and be a silent STOP."""
+        if not pattern or pattern[-1] is ANY or len(pattern) >= len(e) or _match(pattern, e[: len(pattern)]) is None:
+            return
+        for prefix, arity in self.alphabet:
+            if len(e) == len(prefix) + arity and _extends(e, prefix):
+                missing = len(e) - len(pattern)
+                raise Unsupported(None, f"the prefix {'.'.join(str(x) for x in pattern)} names the model's channel "
+                                        f"{'.'.join(str(x) for x in prefix)} without {missing} of its fields (its "
+                                        f"events are such as {'.'.join(str(x) for x in e)}); FDR rejects it as a "
+                                        "type error")
+
     def candidates(self, p: Proc, extra: Iterable[Event] = ()) -> set[Event]:
         """Concrete events that stand for all of p's possible moves: per alphabet channel, the
         values p's terms (and `extra`) name in each field, every value of a field an input that is
@@ -970,7 +985,10 @@ class Semantics:
             if tock and p.timed:
                 return [p]
             bound = _match(p.pattern, e)
-            if bound is None or any(v is OTHER and k in self._listed_inputs(p, e) for k, v in bound.items()):
+            if bound is None:
+                self._complete(p.pattern, e)
+                return []
+            if any(v is OTHER and k in self._listed_inputs(p, e) for k, v in bound.items()):
                 return []
             env = Env(bound, {}, p.env.timed, p.env) if bound else p.env
             return [self.evaluator.proc(p.then, env)]
