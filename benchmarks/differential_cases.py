@@ -302,7 +302,8 @@ def assertions_text(states: list[str], pick: Callable[[list], object], specs: bo
                     untimed: bool = False, timed: bool = True, tick_tock: bool = False) -> str:
     """Nine assertions of M; with `specs`, also four refinements of specifications that tell some
     values of M's events apart (an input, an output, a call), after the nine; with `untimed`, the
-    untimed forms (docs/semantics.md §7.11) and refinements in the failures models (§7.12); with
+    untimed forms (docs/semantics.md §7.11), refinements in the failures models (§7.12) and the
+    timed negations the nine leave out (`NEGATED`); with
     `tick_tock`, refinements in the tick-tock model (§7.13), either side; `timed=False` leaves the
     nine out."""
     forms = ["M does not terminate", "M is timelock-free", "M is deadlock-free", "M is not timelock-free",
@@ -315,13 +316,17 @@ def assertions_text(states: list[str], pick: Callable[[list], object], specs: bo
         reach = f"{pick(states)} is reachable in M"
         text += "".join(f"untimed assertion U{k}: {f}.\n" for k, f in enumerate(UNTIMED + [reach]))
         text += FAILURES
+        text += "".join(f"timed assertion N{k}: {f}.\n" for k, f in enumerate(NEGATED))
     if tick_tock:
         text += TICK_TOCK
     return text
 
 
+# The timed negations the nine leave out (with the untimed forms, since session 14).
+NEGATED = ["M is not deadlock-free", "M is not divergence-free", "M is not deterministic"]
+
 UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is divergence-free",
-           "M is deterministic", "M is not deadlock-free"]
+           "M is deterministic", "M is not deadlock-free", "M is not divergence-free", "M is not deterministic"]
 
 # Specifications over every channel of M: `Any` is stable only in states accepting one channel
 # (every value of it), so M refines it in the failures model exactly where, stable and short of
