@@ -315,6 +315,26 @@ class _Check:
         return replace(self.result(verdict, why, proof=Proof.TRACE, depth=len(trace), trace=trace,
                                    extra={"replayed": replayed}), other_trace=other)
 
+    def by_subsets(self, why: str) -> Result | None:
+        """The specification-on-the-left half decided over the element's configurations, where the
+        specification's traces are too many to list (`explicit.engine.included_by_subsets`): the
+        result for the whole assertion, since the other half (if any) was shown to hold (or, for a
+        negated one, to give no verdict), or None where the element's data is not finite."""
+        from tockbmc.explicit.engine import included_by_subsets
+
+        found = included_by_subsets(self.config.project, self.a, self.bound, self.config, self.time_left())
+        if found is None:
+            return None
+        how = (f"{why}, so the specification's states were paired with the sets of configurations the "
+               "interpreter reaches by the same trace (finite under these ranges) instead: ")
+        if found.verdict == Verdict.HOLDS and self.reasons:
+            how = "; ".join(self.reasons) + "; " + how
+        # A first half shown only up to the bound keeps the whole bounded.
+        proof = Proof.TRACE if found.trace else Proof.BOUNDED if self.reasons and self.proof == Proof.BOUNDED \
+            else Proof.EXHAUSTIVE
+        return self.result(found.verdict, how + (found.reason or ""), trace=found.trace, depth=None, proof=proof,
+                           extra=found.extra)
+
     def follow(self, q: Query, network: Network, consts: dict[str, ast.Expr]) -> Result | None:
         """Every trace of the specification on the model's right is one of the model's."""
         assert q.context is not None and q.inclusion is not None
@@ -326,6 +346,10 @@ class _Check:
         failures = self.a.semantic_model if self.a.semantic_model in (*FAILURES_MODELS, TICK_TOCK) else None
         inc = included(make, context.sem, q.inclusion, q.spec_name, q.element.name, self.bound, self.time_left,
                        progress=self.progress, refusals=failures)
+        if inc.unlisted and self.a.semantic_model != TICK_TOCK:
+            whole = self.by_subsets(inc.reason)
+            if whole is not None:
+                return whole
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
                 return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace,

@@ -43,6 +43,7 @@ class Inclusion:
     reason: str
     trace: tuple[TraceStep, ...] = ()
     extra: dict[str, object] = field(default_factory=dict)  # more for the result (tick-tock: `tock_refusals`)
+    unlisted: bool = False  # unknown because the specification's traces or refusals are too many to list
 
 
 def _following(make: Make, t: SpecTrace) -> TransitionSystem:
@@ -96,7 +97,8 @@ def included(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: st
     traces, length = spec_traces(sem, spec, channels, wanted, cap)
     if length < wanted:
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {cap} traces of {wanted} events; only those "
-                                          f"of up to {length} events could be listed, which gives no verdict")
+                                          f"of up to {length} events could be listed, which gives no verdict",
+                         unlisted=True)
     for t in traces:
         outcome = _performs(partial(_following, make, t), followed, bound, timeout, progress)
         if outcome.status == Status.FOUND:
@@ -137,7 +139,7 @@ def _refusals(make: Make, sem: Semantics, spec: Proc, spec_name: str, element: s
     wanted = spec_refusals(mon, sem, channels, traces)
     if len(wanted) > REFUSALS_CAP:
         return Inclusion(Verdict.UNKNOWN, f"{spec_name} has more than {REFUSALS_CAP} stable refusals after its traces "
-                                          f"of up to {length} events, which gives no verdict")
+                                          f"of up to {length} events, which gives no verdict", unlisted=True)
     def target_for(r: SpecRefusal) -> Target:
         return lambda s: z3.And(followed(s), offers_within(s, mon, r, channels, channel_of))
 

@@ -45,7 +45,7 @@ from tockbmc.properties.failures import (
     spec_refusals,
 )
 from tockbmc.properties.goals import Query
-from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, spec_traces
+from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, next_events, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import given_spec, query, unprefixed_tock
 from tockbmc.properties.spec import OTHER, Channel, EnumValue, Monitor, TooLarge, _same
@@ -585,8 +585,8 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
     if a.semantic_model == TICK_TOCK:
         return _observed(a, q, search, result, wanted)
     traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
-    if length < wanted:
-        return result(Verdict.UNKNOWN, f"{q.spec_name} has too many traces of {wanted} events")
+    if length < wanted:  # too many to list: follow the element's configurations after each trace at once
+        return _subsets(a, q, search, result, channels)
     for t in traces:
         if not _performs(search, t):
             names = [_event_text(e) for e in t.events] + (["✓"] if t.ticks else [])  # as BMC's inclusion shows it
@@ -606,6 +606,155 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
                                  f"{q.element.name}'s{refusals}; a bounded search alone gives no verdict")
     return result(Verdict.HOLDS, f"every trace of {q.spec_name} with up to {length} events is a trace of "
                            f"{q.element.name}{refusals} ({len(traces)} traces listed)")
+
+
+def _subsets(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],
+             channels: list[Channel]) -> Result:
+    """Every trace of the specification is one of the element's, and in the failures models each of
+    its stable refusals one the element makes after the same trace, decided for traces of every
+    length: the specification's monitor states paired with the set of the element's configurations
+    reachable by the same trace (internal steps closed), explored breadth first (the subset
+    construction FDR applies to the side it normalises).  Used where the traces are too many to
+    list (`_included`); complete when the pairs are finitely many and all explored."""
+    assert q.context is not None and q.inclusion is not None
+    sem = q.context.sem
+    sem.alphabet = element_alphabet(q.element)  # the events to list, and every value of each
+    sem.values = channel_values(search.interp, q.element, {v.text: v for v in sem.evaluator.literals.values()})
+    failures = a.semantic_model in FAILURES_MODELS
+    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, [])) if failures else None
+    try:
+        mon = Monitor(sem, q.inclusion, checker.channels if checker is not None else channels)
+    except TooLarge:
+        raise Unsupported(None, f"{q.spec_name} has too many states") from None
+    if checker is not None:
+        checker.monitor = mon
+        if a.semantic_model == "failures divergences":
+            mon.table()
+            if divergent_state(mon, sem) is not None:
+                raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
+                                        "against a divergent specification is not supported")
+
+    def closure(keys: Iterable[Hashable]) -> frozenset[Hashable]:
+        seen = set(keys)
+        todo = deque(seen)
+        while todo:
+            for step, nxt, _ in search.steps(todo.popleft()):
+                if step.kind == "internal" and nxt not in seen:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        return frozenset(seen)
+
+    def diverges(group: frozenset[Hashable]) -> bool:  # a cycle of internal steps among them (closed)
+        inner = {k: [n for st, n, _ in search.steps(k) if st.kind == "internal"] for k in group}
+        return _has_internal_cycle(inner)
+
+    def shown(events: tuple[tuple, ...], tick: bool = False) -> tuple[TraceStep, ...]:
+        names = [_event_text(e) for e in events] + (["✓"] if tick else [])
+        return tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", f"a trace of {q.spec_name}", {}, {})
+                     for j, e in enumerate(names))
+
+    differ = Verdict.HOLDS if a.negated else Verdict.VIOLATED
+    start = (mon.initial, closure((c, None) for c in search.interp.initial()))
+    seen_pairs: set[tuple[int, frozenset[Hashable]]] = {start}
+    todo: deque[tuple[tuple[int, frozenset[Hashable]], tuple[tuple, ...]]] = deque([(start, ())])
+    held = 0  # configurations held in the explored pairs
+    while todo:
+        search.check_time()
+        (state, group), trace = todo.popleft()
+        if mon.can_tick(state) and not any(search.interp.terminated(k[0]) for k in group):  # type: ignore[index]
+            return result(differ, f"{q.spec_name} has this trace and then terminates, and {q.element.name} cannot "
+                                  "perform it (every configuration it reaches by the trace was explored)",
+                          shown(trace, True))
+        if checker is not None:
+            for acc in acceptances(mon, sem, state, checker.channels):
+                r = SpecRefusal(trace, state, acc)
+                if any(_made(search, checker, r, k[0], search.steps(k)) for k in group):  # type: ignore[index]
+                    continue
+                what = (f"{'after this trace' if trace else 'at the start'} {q.spec_name} can be stable accepting "
+                        f"{acceptance_text(checker.channels, acc)}, and {q.element.name}")
+                if a.semantic_model == "failures divergences" and diverges(group):
+                    return result(Verdict.UNKNOWN, f"{what} has no stable configuration refusing the rest, but it "
+                                                   "can diverge, which in the failures-divergences model allows "
+                                                   "every refusal", shown(trace))
+                return result(differ, f"{what} has no stable configuration, short of termination, refusing "
+                                      "everything else (every configuration it reaches by the trace was explored)",
+                              shown(trace))
+        for e, after in next_events(mon, sem, state):
+            name, tock = _event_text(e), e == ("tock",)
+            moved = closure(nxt for k in group for step, nxt, _ in search.steps(k)
+                            if tock and step.kind == "tock" or step.event is not None and step.event.name == name)
+            if not moved:
+                return result(differ, f"{q.spec_name} has this trace, and {q.element.name} cannot perform it "
+                                      "(every configuration it reaches by the trace before it was explored)",
+                              shown((*trace, e)))
+            pair = (after, moved)
+            if pair not in seen_pairs:
+                held += len(moved)
+                if held > search.max_states:
+                    raise MemoryError
+                seen_pairs.add(pair)
+                todo.append((pair, (*trace, e)))
+    refusals = ", and each of its stable refusals after it one of the element's" if checker is not None else ""
+    if a.negated:
+        return result(Verdict.VIOLATED, f"every trace of {q.spec_name} is one of {q.element.name}'s{refusals}, for "
+                                        f"traces of every length ({len(seen_pairs)} pairs of its state and "
+                                        f"{q.element.name}'s configurations after the same trace, all explored)")
+    return result(Verdict.HOLDS, f"every trace of {q.spec_name} is a trace of {q.element.name}{refusals}, for "
+                                 f"traces of every length ({len(seen_pairs)} pairs of its state and the "
+                                 f"configurations of {q.element.name} after the same trace, all explored; its "
+                                 "traces were too many to list one by one)")
+
+
+def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
+                        timeout: float | None, max_states: int = DEFAULT_MAX_STATES) -> Result | None:
+    """The specification-on-the-left half of `a` (`Q refines M`, the second half of `equals`)
+    decided by `_subsets`, for BMC where the specification's traces are too many to list; None
+    where the element's data is not finite under the configuration's ranges (the interpreter
+    cannot list its configurations), or the search gives no verdict."""
+    start = time.perf_counter()
+    deadline = time.monotonic() + timeout if timeout is not None else None
+    q = query(project, a)
+    if q.spec_element is not None:
+        q = with_element_spec(q, a, config)
+    setup = config.setup(a, q.element, q.settings)
+
+    def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
+        return Result(assertion=a.name, text=a.text, verdict=verdict, bound=bound, ranges=setup.described_ranges,
+                      seconds=time.perf_counter() - start, reason=reason, trace=trace,
+                      proof=Proof.TRACE if trace else Proof.EXHAUSTIVE, engine="explicit", pos=str(a.pos),
+                      extra=more or {}, constants=setup.described_constants, sources=setup.sources)
+
+    try:
+        interp = Interpreter(q.element, ranges_dict(setup.ranges), python_settings(setup.constants),
+                             dict(q.defined), lazy=False, timed=q.timed)
+        search = Search(interp, q, bound, max_states, deadline)
+        channels = [Channel(prefix, arity) for prefix, arity in element_alphabet(q.element)] + [Channel(("tock",), 0)]
+        decided = _subsets(a, q, search, result, channels)
+    except (Unbounded, NotInterpretable, Unsupported, TimeoutError, MemoryError, RecursionError):
+        return None
+    return decided if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) else None
+
+
+def _has_internal_cycle(graph: dict[Hashable, list[Hashable]]) -> bool:
+    """Whether a directed graph has a cycle (depth first, the nodes on the current path kept apart)."""
+    done: set[Hashable] = set()
+    for root in graph:
+        if root in done:
+            continue
+        on_path, stack = {root}, [(root, iter(graph[root]))]
+        while stack:
+            node, nexts = stack[-1]
+            nxt = next(nexts, None)
+            if nxt is None:
+                stack.pop()
+                on_path.discard(node)
+                done.add(node)
+            elif nxt in on_path:
+                return True
+            elif nxt not in done and nxt in graph:
+                on_path.add(nxt)
+                stack.append((nxt, iter(graph[nxt])))
+    return False
 
 
 def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],
