@@ -33,7 +33,7 @@ from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.deadlock import diverges, refuses_everything, untimed_deadlocked
 from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.failures import FAILURES_MODELS
-from tockbmc.properties.goals import Goal, Query, stuck, terminated, timelocked
+from tockbmc.properties.goals import Goal, Query, one_value_only, per_value_reason, stuck, terminated, timelocked
 from tockbmc.properties.inclusion import Following, TraceFollower
 from tockbmc.properties.process import MonitorExtension
 from tockbmc.properties.queries import query
@@ -95,6 +95,8 @@ class _Check:
         self.extra: dict[str, object] = {}  # what the goals searched so far add to the result
         self.searched = False  # whether some goal was searched (rather than shown unreachable by abstraction)
         self.abstracted = False
+        self.q: Query | None = None
+        self.parameters: tuple[str, ...] = ()  # constants left parameters (`one_value_only`)
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
@@ -112,14 +114,25 @@ class _Check:
                       proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources)
 
     def run(self, project: ast.Project) -> Result:
+        decided = self._run(project)
+        q = self.q
+        if q is not None and self.parameters and one_value_only(q, decided.verdict):
+            return replace(decided, verdict=Verdict.UNKNOWN, reason=per_value_reason(self.parameters, decided.reason),
+                           proof=Proof.NONE)
+        return decided
+
+    def _run(self, project: ast.Project) -> Result:
         try:
-            q = query(project, self.a)
+            q = self.q = query(project, self.a)
             if q.spec_element is not None:  # two model elements: the other one's state graph, from the interpreter
                 from tockbmc.explicit.engine import with_element_spec
                 q = with_element_spec(q, self.a, self.config)
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
+            self.parameters = setup.parameters + (self.config.setup(self.a, q.spec_element.element,
+                                                                    q.spec_element.settings).parameters
+                                                  if q.spec_element is not None else ())
             network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants

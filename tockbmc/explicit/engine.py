@@ -27,7 +27,7 @@ from typing import NamedTuple, cast
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, Unbounded, fill, unknowns
 from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast
-from tockbmc.model.config import Configuration, configure
+from tockbmc.model.config import Configuration, Setup, configure
 from tockbmc.model.data import Variant
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
@@ -44,7 +44,7 @@ from tockbmc.properties.failures import (
     refuse_context,
     spec_refusals,
 )
-from tockbmc.properties.goals import Query
+from tockbmc.properties.goals import Query, one_value_only, per_value_reason
 from tockbmc.properties.inclusion import INCLUSION_LENGTH, SpecTrace, next_events, spec_traces
 from tockbmc.properties.process import _event_text, after_termination
 from tockbmc.properties.queries import given_spec, query, unprefixed_tock
@@ -464,6 +464,23 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                     progress: Callable[[int], None] | None = None) -> Result:
     """The verdict of one assertion by explicit search; `progress` is told each number of visible
     steps up to which every run has been explored."""
+    seen: list[tuple[Query, Setup]] = []
+    decided = _check_assertion(project, a, bound, config, timeout, max_states, progress, seen)
+    if not seen:
+        return decided
+    q, setup = seen[0]
+    parameters = setup.parameters + (config.setup(a, q.spec_element.element, q.spec_element.settings).parameters
+                                     if q.spec_element is not None else ())
+    if parameters and one_value_only(q, decided.verdict):
+        return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
+                       reason=per_value_reason(parameters, decided.reason))
+    return decided
+
+
+def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration,
+                     timeout: float | None, max_states: int, progress: Callable[[int], None] | None,
+                     seen: list[tuple[Query, Setup]]) -> Result:
+    """`check_assertion` before the parameters are considered; `seen` is given the query and setup."""
     start = time.perf_counter()
     deadline = time.monotonic() + timeout if timeout is not None else None
     search: Search | None = None
@@ -490,6 +507,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         if q.spec_element is not None:
             q = with_element_spec(q, a, config)
         setup = config.setup(a, q.element, q.settings)
+        seen.append((q, setup))
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
         consts = python_settings(setup.constants)
 

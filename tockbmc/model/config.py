@@ -97,6 +97,7 @@ class Setup:
     described_constants: dict[str, str]
     range_sources: dict[str, str]
     constant_sources: dict[str, str]
+    parameters: tuple[str, ...] = ()  # the constants left parameters: every value of each is considered
 
     @property
     def sources(self) -> dict[str, dict[str, str]]:
@@ -686,7 +687,8 @@ class Configuration:
             shown = instance_name(path, declared[key])
             described[shown] = describe_value(entry.value)
             sources[shown] = str(entry.source)
-        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources)
+        parameters = tuple(sorted(k for k, e in entries.items() if e.value is None and k in described))
+        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources, parameters)
 
     def _per_instance(self, a: ast.Assertion | None, element: Checked, slots: list[_Slot],
                       entries: dict[str, _ConstEntry]) -> dict[tuple[tuple[str, ...], str], _ConstEntry]:

@@ -133,3 +133,35 @@ def true_at(unroller: Unroller, model: z3.ModelRef, term: z3.BoolRef, k: int) ->
 def number_at(unroller: Unroller, model: z3.ModelRef, term: z3.ExprRef, k: int) -> int:
     """An integer term over the template step, its value at step k."""
     return int_value(model, unroller.at(term, k))
+
+
+_SAFETY = ("deadlock-free", "timelock-free", "divergence-free", "deterministic")
+
+
+def one_value_only(q: Query, verdict: Verdict) -> bool:
+    """Whether `verdict`, found over every parameter value at once, may stand for some values only.
+
+    Both engines search the runs from every value of a constant made a parameter together (the
+    element as the internal choice of its instances), which decides a claim about every run for
+    every value.  A claim that some run exists does not carry over: a witness shows it for the
+    values it starts from (`M terminates` with `--param k`, where only k = 1 terminates), and the
+    specification-on-the-left direction finds each of its traces in some instance, not in each
+    (docs/semantics.md §6.3: the assertion holds when it holds for every value)."""
+    a = q.assertion
+    refinement = a.kind in ("refines", "equals")
+    # A specification side with instances: the specification on the left, or a model element on the
+    # right whose instances make one internal choice (a union of their traces, not each one's).
+    instances = q.inclusion is not None or q.spec_element is not None
+    if verdict == Verdict.HOLDS:
+        return (not a.negated and a.kind in ("reachable", "terminates")
+                or a.negated and a.kind in _SAFETY
+                or refinement and a.negated and bool(q.goals)
+                or refinement and not a.negated and instances)
+    if verdict == Verdict.VIOLATED:
+        return refinement and a.negated and instances
+    return False
+
+
+def per_value_reason(parameters: tuple[str, ...], reason: str | None) -> str:
+    return (f"shown for some values of the parameters ({', '.join(parameters)}) only: one run, or one trace, "
+            f"stands for the values it starts from, and the claim needs every value ({reason})")
