@@ -33,6 +33,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.deadlock import on_cycle
 from tockbmc.properties.failures import (
     FAILURES_MODELS,
     Offer,
@@ -361,25 +362,7 @@ class Search:
         """A node (explored, where `where` holds) on a cycle of steps for which `edge` holds."""
         graph = {k: [e.node for e in succ if edge(e.step) and e.node in self.succ] for k, succ in self.succ.items()
                  if where(k)}
-        done: set[Hashable] = set()
-        for root in graph:
-            if root in done:
-                continue
-            path, stack = {root}, [(root, iter(graph[root]))]
-            while stack:
-                node, children = stack[-1]
-                child = next(children, None)
-                if child is None:
-                    stack.pop()
-                    path.discard(node)
-                    done.add(node)
-                elif child in path:
-                    return child
-                elif child not in done and child in graph:
-                    path.add(child)
-                    stack.append((child, iter(graph[child])))
-        return None
-
+        return on_cycle(graph)
 
     def nearest_divergence(self) -> Hashable | None:
         """The explored node nearest the start on a cycle of internal steps (a divergence)."""
@@ -664,7 +647,7 @@ def _subsets(a: ast.Assertion, q: Query, search: Search, result: Callable[..., R
 
     def diverges(group: frozenset[Hashable]) -> bool:  # a cycle of internal steps among them (closed)
         inner = {k: [n for st, n, _ in search.steps(k) if st.kind == "internal"] for k in group}
-        return _has_internal_cycle(inner)
+        return on_cycle(inner) is not None
 
     def shown(events: tuple[tuple, ...], tick: bool = False) -> tuple[TraceStep, ...]:
         names = [_event_text(e) for e in events] + (["✓"] if tick else [])
@@ -751,28 +734,6 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
     except (Unbounded, NotInterpretable, Unsupported, TimeoutError, MemoryError, RecursionError):
         return None
     return decided if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) else None
-
-
-def _has_internal_cycle(graph: dict[Hashable, list[Hashable]]) -> bool:
-    """Whether a directed graph has a cycle (depth first, the nodes on the current path kept apart)."""
-    done: set[Hashable] = set()
-    for root in graph:
-        if root in done:
-            continue
-        on_path, stack = {root}, [(root, iter(graph[root]))]
-        while stack:
-            node, nexts = stack[-1]
-            nxt = next(nexts, None)
-            if nxt is None:
-                stack.pop()
-                on_path.discard(node)
-                done.add(node)
-            elif nxt in on_path:
-                return True
-            elif nxt not in done and nxt in graph:
-                on_path.add(nxt)
-                stack.append((nxt, iter(graph[nxt])))
-    return False
 
 
 def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],

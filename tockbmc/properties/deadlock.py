@@ -178,6 +178,12 @@ def _machine_cycle(system: TransitionSystem) -> bool:
 
 def _has_cycle(graph: Mapping[N, Iterable[N]]) -> bool:
     """Whether the directed graph (node -> successors) has a cycle."""
+    return on_cycle(graph) is not None
+
+
+def on_cycle(graph: Mapping[N, Iterable[N]]) -> N | None:
+    """A node on a cycle of the directed graph (node -> successors; a successor that is not a key
+    has none), found depth first; None if there is no cycle."""
     done: set[N] = set()
     for root in graph:
         if root in done:
@@ -191,11 +197,11 @@ def _has_cycle(graph: Mapping[N, Iterable[N]]) -> bool:
                 path.discard(node)
                 done.add(node)
             elif child in path:
-                return True
+                return child
             elif child not in done:
                 path.add(child)
                 stack.append((child, iter(graph.get(child, ()))))
-    return False
+    return None
 
 
 class LoopWatch:
