@@ -622,18 +622,10 @@ def _subsets(a: ast.Assertion, q: Query, search: Search, result: Callable[..., R
     sem.alphabet = element_alphabet(q.element)  # the events to list, and every value of each
     sem.values = channel_values(search.interp, q.element, {v.text: v for v in sem.evaluator.literals.values()})
     failures = a.semantic_model in FAILURES_MODELS
-    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, [])) if failures else None
     try:
-        mon = Monitor(sem, q.inclusion, checker.channels if checker is not None else channels)
+        checker, mon = _refusal_monitor(a, q, search) if failures else (None, Monitor(sem, q.inclusion, channels))
     except TooLarge:
         raise Unsupported(None, f"{q.spec_name} has too many states") from None
-    if checker is not None:
-        checker.monitor = mon
-        if a.semantic_model == "failures divergences":
-            mon.table()
-            if divergent_state(mon, sem) is not None:
-                raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
-                                        "against a divergent specification is not supported")
 
     def closure(keys: Iterable[Hashable]) -> frozenset[Hashable]:
         seen = set(keys)
@@ -736,6 +728,21 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
     return decided if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) else None
 
 
+def _refusal_monitor(a: ast.Assertion, q: Query, search: Search) -> tuple[ConcreteRefusals, Monitor]:
+    """The specification on the left's monitor over the refusal checker's channels, and the checker;
+    in the failures-divergences model a divergent specification is unsupported."""
+    assert q.context is not None and q.inclusion is not None
+    sem = q.context.sem
+    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, []))
+    mon = checker.monitor = Monitor(sem, q.inclusion, checker.channels)
+    if a.semantic_model == "failures divergences":
+        mon.table()
+        if divergent_state(mon, sem) is not None:
+            raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
+                                    "against a divergent specification is not supported")
+    return checker, mon
+
+
 def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Result],
                        traces: list[tuple[tuple, ...]]) -> Result | None:
     """In the failures models, the specification on the right: after each listed trace, each stable
@@ -743,14 +750,7 @@ def _refusals_included(a: ast.Assertion, q: Query, search: Search, result: Calla
     termination, offering nothing outside the acceptance (docs/semantics.md §7.12); None if so."""
     assert q.context is not None and q.inclusion is not None
     sem = q.context.sem
-    checker = ConcreteRefusals(search.interp, q, Monitor(sem, q.inclusion, []))
-    mon = Monitor(sem, q.inclusion, checker.channels)
-    checker.monitor = mon
-    if a.semantic_model == "failures divergences":
-        mon.table()
-        if divergent_state(mon, sem) is not None:
-            raise Unsupported(None, f"{q.spec_name} can diverge; refinement in the failures-divergences model "
-                                    "against a divergent specification is not supported")
+    checker, mon = _refusal_monitor(a, q, search)
     wanted = spec_refusals(mon, sem, checker.channels, traces)
     if len(wanted) > 256:
         return result(Verdict.UNKNOWN, f"{q.spec_name} has more than 256 stable refusals after its listed traces, "
