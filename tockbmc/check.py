@@ -19,7 +19,7 @@ import z3
 
 from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
 from tockbmc.bmc.engine import SPENT, Outcome, Progress, Status
-from tockbmc.bmc.inclusion import included
+from tockbmc.bmc.inclusion import Inclusion, included
 from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
@@ -30,7 +30,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
-from tockbmc.properties.deadlock import diverges, refuses_everything, untimed_deadlocked
+from tockbmc.properties.deadlock import diverges, may_diverge, refuses_everything, untimed_deadlocked
 from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.failures import FAILURES_MODELS
 from tockbmc.properties.goals import Goal, Query, one_value_only, per_value_reason, stuck, terminated, timelocked
@@ -335,6 +335,8 @@ class _Check:
         negated one, to give no verdict), or None where the element's data is not finite."""
         from tockbmc.explicit.engine import included_by_subsets
 
+        if self.q is None or not _interpreted_as_bmc(self.config.project, self.q, self.ranges):
+            return None
         found = included_by_subsets(self.config.project, self.a, self.bound, self.config, self.time_left())
         if found is None:
             return None
@@ -363,6 +365,18 @@ class _Check:
             whole = self.by_subsets(inc.reason)
             if whole is not None:
                 return whole
+        if inc.verdict == Verdict.VIOLATED and self.a.semantic_model == "failures divergences":
+            # The element may have diverged on a prefix of the trace, after which the model allows
+            # every trace and refusal: decided over its configurations where they are finite, else
+            # only where no divergence is possible.
+            whole = self.by_subsets(f"{inc.reason}, but in the failures-divergences model a divergence on the way "
+                                    "allows every later trace and refusal")
+            if whole is not None:
+                return whole
+            if may_diverge(TransitionSystem(network, self.ranges, consts, context=context)):
+                inc = Inclusion(Verdict.UNKNOWN, f"{inc.reason}; but {q.element.name} may diverge, and after a "
+                                                 "divergence the failures-divergences model allows every later trace "
+                                                 "and refusal, so this decides nothing", inc.trace, inc.extra)
         if self.a.negated:
             if inc.verdict == Verdict.VIOLATED:
                 return self.result(Verdict.HOLDS, inc.reason, proof=Proof.TRACE, depth=None, trace=inc.trace,
@@ -405,6 +419,25 @@ def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callabl
         return made[0](prefix)
 
     return values
+
+
+def _interpreted_as_bmc(project: ast.Project, q: Query, ranges: Ranges) -> bool:
+    """Whether the interpreter's configurations of the element are exactly those BMC's runs reach:
+    every value from outside (an input, a variable or constant without a value) of a type the
+    interpreter lists as BMC bounds it (`_listed_as_bmc_bounds`: no real, whose range BMC takes
+    whole and the interpreter by its integers; a natural only under `core_nat`), and no range of
+    one path or parameter.  Every variable of the project counts, initialised or not."""
+    from tockbmc.explicit.engine import element_types
+
+    if ranges.parametric or ranges.by_path:
+        return False
+    groups: tuple[tuple[ast.Variable, ...], ...] = (
+        *(h.variables for h in project.interfaces), *(h.variables for h in project.platforms),
+        *(h.variables for h in project.machines), *(h.variables for h in project.controllers),
+        *(h.variables for h in project.operations))
+    types = [v.type for g in groups for v in g]
+    types += [t for ts in element_types(q.element).values() for t in ts]
+    return all(_listed_as_bmc_bounds(t, ranges) for t in types)
 
 
 def _listed_as_bmc_bounds(t: ast.Type, ranges: Ranges) -> bool:

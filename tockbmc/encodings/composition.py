@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
+from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Automaton, compile_machine
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
@@ -132,7 +133,7 @@ class _Flattener:
 
     def share(self, variables: tuple[ast.Variable, ...], scope: str) -> None:
         for v in variables:
-            self.shared.setdefault(f"{scope}{v.name}", v)
+            self.shared.setdefault(names.shared(f"{scope}{v.name}"), v)
 
     def require(self, c: int, m: ast.StateMachine, controller: str) -> None:
         """Bind the variables machine c requires to its controller's, else the platform's (docs/semantics.md §5.5).
@@ -150,9 +151,9 @@ class _Flattener:
         for v in (*m.interface_variables, *inlined):
             if ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces)):
                 continue
-            key = f"{controller}.{v.name}"
+            key = names.shared(f"{controller}.{v.name}")
             if key not in self.shared and v.name in self.platform:
-                key = v.name
+                key = names.shared(v.name)
             self.shared.setdefault(key, v)
             self.scopes[(c, v.name)] = key
 

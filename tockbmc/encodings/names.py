@@ -41,15 +41,23 @@ def variable(component: str, name: str, operation: str = "") -> str:
     """A machine's own variable (or an inlined operation's: `M.op().x`)."""
     if operation:
         return f"{component}.{operation}().{name}"
-    return f"{component}.{name}#" if name in _BOOKKEEPING or _global(component, name) else f"{component}.{name}"
+    slot = f"{component}.{name}"
+    return f"{slot}#" if name in _BOOKKEEPING or _global(slot) else slot
 
 
-def _global(component: str, name: str) -> bool:
-    """Whether `component.name` is also the name of one of the scalars below that belong to no
-    machine: a machine named `loop` with `var saved`, or `buffer0` with `var full`."""
-    if component == "loop":
-        return name in ("saved", "save")
-    return component.startswith("buffer") and component[6:].isdigit() and name in ("full", "value")
+def shared(key: str) -> str:
+    """The slot of a variable machines share: a controller's (`C.x`) or the platform's (`x`)."""
+    return f"{key}#" if _global(key) else key
+
+
+def _global(slot: str) -> bool:
+    """Whether a variable's slot would be one of the scalars below that belong to no machine, or
+    lead to one (a record's fields are `slot.field`): a machine or controller named `loop` with
+    `var saved` or `var copy`, `buffer0` with `var full`, a platform's `var prev`."""
+    if slot in (PREVIOUS, MONITOR, FOLLOW, LOOP_SAVED, LOOP_SAVE) or slot == "loop.copy" or slot.startswith("loop.copy."):
+        return True
+    head, _, field = slot.partition(".")
+    return head.startswith("buffer") and head[6:].isdigit() and field in ("full", "value")
 
 
 def constant(component: str, name: str) -> str:
