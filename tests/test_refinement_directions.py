@@ -114,6 +114,28 @@ def test_a_prefix_short_of_the_channel_s_fields_is_unsupported(tmp_path) -> None
         assert r.verdict == "unsupported" and "FDR rejects it as a type error" in (r.reason or ""), r.reason
 
 
+def test_an_input_binds_the_rest_of_a_channel_s_fields(tmp_path) -> None:
+    """`N::c?x` on `event c : int` binds x to `in.v` (CSPM's dotted rest of the event): matched
+    where x is read nowhere, as a realworld specification (GasAnalysis::gas?x) needs; it had been a
+    prefix matching nothing.  N receives on c for ever; S takes one input, so N violates it at the
+    second."""
+    from fractions import Fraction
+
+    from tockbmc.encodings.values import Range
+    from tockbmc.explicit.engine import check_explicit
+
+    write_files(tmp_path, {"m.rct": "interface I { event c : int }\nstm N {\n  uses I\n  var v : int = 0\n"
+                                    "  initial i\n  state s {}\n  transition t0 { from i to s }\n"
+                                    "  transition t1 { from s to s trigger c?v }\n}\n",
+                           "m.assertions": "untimed csp S csp-begin\nS = N::c?x -> STOP\ncsp-end\n"
+                                           "untimed assertion R: N refines S in the traces model\n"})
+    project = tockbmc.load(tmp_path)
+    one = Ranges({"core_int": Range(Fraction(0), Fraction(0))})
+    from tockbmc.model.config import configure
+    for [r] in (check(project, bound=10, config=configure(project, one)), check_explicit(project, None, 10, one, {}, 60)):
+        assert r.verdict == "violated" and visible(r) == ["N::c.in.0", "N::c.in.0"], (r.reason, visible(r))
+
+
 def test_two_specifications_are_unsupported_and_two_models_checked(tmp_path) -> None:
     """Between two model elements, the right one stands for the specification, as the state graph
     the interpreter lists (docs/semantics.md §7.5): M refines itself."""

@@ -920,11 +920,14 @@ class Semantics:
             return
         for prefix, arity in self.alphabet:
             if len(e) == len(prefix) + arity and _extends(e, prefix):
-                missing = len(e) - len(pattern)
-                raise Unsupported(None, f"the prefix {'.'.join(str(x) for x in pattern)} names the model's channel "
-                                        f"{'.'.join(str(x) for x in prefix)} without {missing} of its fields (its "
-                                        f"events are such as {'.'.join(str(x) for x in e)}); FDR rejects it as a "
-                                        "type error")
+                shown = ".".join(f"?{x.name}" if isinstance(x, Input) else "…" if x is OTHER else str(x)
+                                 for x in pattern)
+                channel = ".".join(str(x) for x in prefix)
+                if isinstance(pattern[-1], Input):  # read later: bound to several fields at once
+                    raise Unsupported(None, f"the input {shown} binds {pattern[-1].name} to the rest of channel "
+                                            f"{channel}'s fields at once, and what follows reads it: not supported")
+                raise Unsupported(None, f"the prefix {shown} names the model's channel {channel} without "
+                                        f"{len(e) - len(pattern)} of its fields; FDR rejects it as a type error")
 
     def candidates(self, p: Proc, extra: Iterable[Event] = ()) -> set[Event]:
         """Concrete events that stand for all of p's possible moves: per alphabet channel, the
@@ -1054,6 +1057,10 @@ def _match(pattern: tuple, e: Event) -> dict[str, object] | None:
     if pattern and pattern[-1] is ANY:  # from enumerating `{| c |}`: any fields after the channel's
         pattern = pattern[:-1]
         e = e[: len(pattern)]
+    if pattern and isinstance(pattern[-1], Input) and not pattern[-1].used and len(pattern) < len(e):
+        # `c?x` on a channel of several fields binds x to all of the rest (CSPM's dotted value);
+        # read nowhere, it is only matched
+        e = (*e[: len(pattern) - 1], tuple(e[len(pattern) - 1:]))
     if len(pattern) != len(e):
         return None
     bound: dict[str, object] = {}
