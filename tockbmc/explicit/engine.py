@@ -632,17 +632,7 @@ def _subsets(a: ast.Assertion, q: Query, search: Search, result: Callable[..., R
         raise Unsupported(None, f"{q.spec_name} has too many states") from None
 
     def closure(keys: Iterable[Hashable]) -> frozenset[Hashable]:
-        seen = set(keys)
-        todo = deque(seen)
-        while todo:
-            search.check_time()  # internal steps that never repeat a configuration go on for ever
-            for step, nxt, _ in search.steps(todo.popleft()):
-                if step.kind == "internal" and nxt not in seen:
-                    if len(seen) >= search.max_states:
-                        raise MemoryError
-                    seen.add(nxt)
-                    todo.append(nxt)
-        return frozenset(seen)
+        return _internal_closure(search, keys)
 
     def diverges(group: frozenset[Hashable]) -> bool:  # a cycle of internal steps among them (closed)
         inner = {k: [n for st, n, _ in search.steps(k) if st.kind == "internal"] for k in group}
@@ -731,6 +721,22 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
     except (Unbounded, NotInterpretable, Unsupported, TimeoutError, MemoryError, RecursionError):
         return None
     return decided if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) else None
+
+
+def _internal_closure(search: Search, nodes: Iterable[Hashable]) -> frozenset[Hashable]:
+    """The nodes reachable from `nodes` by internal steps; keeps to the search's deadline (internal
+    steps that never repeat a configuration go on for ever) and state limit (`MemoryError`)."""
+    seen = set(nodes)
+    todo = list(seen)
+    while todo:
+        search.check_time()
+        for step, nxt, _ in search.steps(todo.pop()):
+            if step.kind == "internal" and nxt not in seen:
+                if len(seen) >= search.max_states:
+                    raise MemoryError
+                seen.add(nxt)
+                todo.append(nxt)
+    return frozenset(seen)
 
 
 def _refusal_monitor(a: ast.Assertion, q: Query, search: Search) -> tuple[ConcreteRefusals, Monitor]:
@@ -1262,17 +1268,7 @@ def _deterministic(search: Search, name: str, negated: bool, result: Callable[..
     search.run(lambda key, succ: None)  # explore within the bound (and see whether that was everything)
 
     def closure(nodes: Iterable[Hashable]) -> frozenset[Hashable]:
-        seen = set(nodes)
-        todo = list(seen)
-        while todo:
-            search.check_time()
-            for step, nxt, _raw in search.steps(todo.pop()):
-                if step.kind == "internal" and nxt not in seen:
-                    if len(seen) >= search.max_states:
-                        raise MemoryError
-                    seen.add(nxt)
-                    todo.append(nxt)
-        return frozenset(seen)
+        return _internal_closure(search, nodes)
 
     def shown(trace: tuple[str, ...]) -> tuple[TraceStep, ...]:
         return tuple(TraceStep(j + 1, e, "tock" if e == "tock" else "event", "", {}, {}) for j, e in enumerate(trace))
