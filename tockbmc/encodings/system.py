@@ -34,6 +34,7 @@ from tockbmc.encodings.values import (
     domain,
     equal,
     fresh,
+    initially,
     leaf_type,
     leaves,
     parts,
@@ -332,7 +333,8 @@ class TransitionSystem:
         given = given if given is not None else constant_setting(self.settings, v, decl)
         expr = given if given is not None else decl.initial
         if expr is not None:
-            self.constraints.append(equal(value, Evaluator({}, {}, self.side, ranges=self.ranges).value(expr)))
+            self.constraints += initially(value, v.type, expr, Evaluator({}, {}, self.side, ranges=self.ranges),
+                                          self.ranges, declaration_key(decl))
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
             # one parameter per instance of a machine's own constant (`stm_ref0::CC`), as its values are
@@ -659,7 +661,7 @@ class TransitionSystem:
         for base, (t, initial, c, key) in self.initial.items():
             value = self.value(base, t)
             if initial is not None:
-                cs.append(equal(value, self.evaluator(c).value(initial)))
+                cs += initially(value, t, initial, self.evaluator(c), self.ranges, key)
             else:  # ranges on variables are kept under the declaration's key (model/config.py)
                 cs += domain(value, t, self.ranges, key)
         for link in self.network.links:

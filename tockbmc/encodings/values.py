@@ -173,6 +173,18 @@ def _to_real(x: z3.ExprRef) -> z3.ExprRef:
     return z3.ToReal(x) if x.sort() == z3.IntSort() else x
 
 
+def initially(v: Value, t: ast.Type, expr: ast.Expr, ev: Evaluator, ranges: Ranges, path: str) -> list[z3.BoolRef]:
+    """Constraints making `v` the initial value `expr` of a place of type `t`: a record literal's
+    omitted fields take any value of their type and range (`path`'s), as a place without one does."""
+    if isinstance(expr, ast.RecordLiteral) and expr.omitted:
+        assert isinstance(v, dict)
+        given = dict(expr.fields)
+        return [c for f, ft in parts(t)
+                for c in ([equal(v[f], as_type(ev.value(given[f]), ft))] if f in given
+                          else domain(v[f], ft, ranges, f"{path}.{f}"))]
+    return [equal(v, ev.value(expr))]
+
+
 def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
     """Constraints on a value the environment chooses: its type's domain and any ranges."""
     if parts(t):
@@ -335,9 +347,10 @@ class Evaluator:
             return rec[e.field_name]
         if isinstance(e, ast.RecordLiteral):
             assert isinstance(e.type, ast.RecordType)
+            if e.omitted:
+                raise Unsupported(e.pos, "a record literal omitting fields, other than as an initial value")
             given = {name: v for (name, _), v in zip(e.fields, operands, strict=True)}
-            return {f.name: (given[f.name] if f.name in given else fresh(f"unset.{f.name}", f.type))
-                    for f in e.type.fields}
+            return {f.name: given[f.name] for f in e.type.fields}
         if isinstance(e, ast.Unary):
             [v] = operands
             assert not isinstance(v, dict)

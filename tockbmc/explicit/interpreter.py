@@ -91,7 +91,8 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   search over them must bound its depth.
 
 `NotInterpretable`: strings, sets and sequences (anything the resolver keeps but this interpreter
-does not evaluate), uninterpreted functions, record literals omitting fields, probabilistic
+does not evaluate), uninterpreted functions, record literals omitting fields (but as a variable's or constant's
+initial value, where the omitted fields are open as a variable without one is), probabilistic
 junctions, recursive operations, an output without a value on a typed event, division by zero,
 reading a variable that has no value, and the network shapes above.
 """
@@ -1420,9 +1421,8 @@ class Interpreter:
             return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)
         if isinstance(e, ast.RecordLiteral):
             t = e.type
-            given = dict(e.fields)
-            if isinstance(t, ast.RecordType) and any(f.name not in given for f in t.fields):
-                raise NotInterpretable(e.pos, "a record literal omitting fields")
+            if ast.omits_fields(e):
+                raise NotInterpretable(e.pos, "a record literal omitting fields, other than as an initial value")
             return _coerce(t, Record({n: self._ev(ctx, x) for n, x in e.fields}))
         if isinstance(e, ast.Since):
             return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
@@ -1709,6 +1709,8 @@ class Interpreter:
                     base[s] = _coerce(var.type, val)
                 elif var.initial is not None:
                     deferred.append((s, info))
+                    if ast.omits_fields(var.initial):  # the omitted fields are open, the others set after
+                        open_slots.append((s, var.type, self._paths_of(info)))
                 else:
                     open_slots.append((s, var.type, self._paths_of(info)))
         # constants first, then variables, each in declaration order
@@ -1753,7 +1755,13 @@ class Interpreter:
         for s, info in deferred:
             ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
             assert info.var is not None and info.var.initial is not None
-            v = _coerce(info.var.type, self._eval(ctx, info.var.initial))
+            init = info.var.initial
+            if ast.omits_fields(init):
+                assert isinstance(init, ast.RecordLiteral)
+                given = {n: self._eval(ctx, x) for n, x in init.fields}
+                v = _coerce(info.var.type, Record({**store[s], **given}))  # type: ignore[dict-item]
+            else:
+                v = _coerce(info.var.type, self._eval(ctx, init))
             if not _fits(info.var.type, v):
                 return None
             store[s] = v

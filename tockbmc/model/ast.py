@@ -461,6 +461,19 @@ class FieldRef(Expr):
 class RecordLiteral(Expr):
     fields: tuple[tuple[str, Expr], ...]
 
+    @property
+    def omitted(self) -> tuple[RecordField, ...]:
+        """The fields of its record type it leaves out (RoboTool accepts `R(|p = 0|)`; DESIGN.md)."""
+        given = {name for name, _ in self.fields}
+        return tuple(f for f in self.type.fields if f.name not in given) if isinstance(self.type, RecordType) else ()
+
+
+def omits_fields(e: Expr | None) -> bool:
+    """Whether `e` is a record literal leaving fields out: as an initial value, those are open (any
+    value of their type and range), as a variable without an initial value is; elsewhere they are
+    not encoded."""
+    return isinstance(e, RecordLiteral) and bool(e.omitted)
+
 
 @dataclass(frozen=True)
 class Unary(Expr):
