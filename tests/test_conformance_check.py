@@ -48,11 +48,6 @@ UNDECIDED = {
     ("clocks5", "R3timed"): "'terminates': termination takes 13 steps (holds at the default bound 40)",
     ("clocks5", "A0"): "Spec's trace (opACall, four tocks, term.out, terminate) takes more than 12 steps of stm0 "
                        "since its composite s0 counts sinceEntry from its inner state's entry (holds at bound 16)",
-    ("test13", "C0"): "CTSpec reads the value it receives (`In.in?y -> Out.out!Plus(y,1,core_nat)`), listed value "
-                      "by value; its traces with tocks are too many to list (unknown at bound 40 too)",
-    ("test13", "M0"): "as test13 C0",
-    ("test13", "UC0"): "untimed: UCTSpec's traces (81) need more than 12 steps of CT; holds at bound 40 with 60 s",
-    ("test13", "UM0"): "as test13 UC0",
     ("test15", "A0"): "checked since session 13 (RoboTool's record field test15_DT_p in STMSpec): STMSpec's traces, a "
                       "received record then tocks, are more than 256 at half the bound",
     ("clocks4-required", "A2"): "tick-tock, Spec on the left: Mod makes Spec's observations (five tocks, two "
@@ -204,14 +199,19 @@ def test_tick_tock_assertions_are_checked_or_say_why_not() -> None:
 # the model's configurations after each trace (session 14, `explicit.engine._subsets`); before,
 # test4's were unknown here and test13 STM0 and test14 A0 took 7.3 s and 4.0 s (holding at depth 12
 # with the traces that could be listed).
+# Since session 15 the construction also follows a listing that gave no verdict (test13 C0/M0: CTSpec's
+# traces need more than 12 steps of CT; UC0/UM0: the refusal searches after UCTSpec's 81 traces ran
+# out of time), with the listing held to half the time: the four were unknown here.
 SUBSETS_CHECKED = {("test4", "a4a"): "holds", ("test4", "a4b"): "holds", ("test13", "STM0"): "holds",
-                   ("test14", "A0"): "holds"}
+                   ("test14", "A0"): "holds", ("test13", "C0"): "holds", ("test13", "M0"): "holds",
+                   ("test13", "UC0"): "holds", ("test13", "UM0"): "holds"}
 
 
 def test_specifications_with_too_many_traces_to_list_are_decided() -> None:
     for key, verdict in SUBSETS_CHECKED.items():
         assert results()[key][0] == verdict, (key, results()[key])
-    assert "paired with the sets" in results()[("test4", "a4a")][1]
+    for key in (("test4", "a4a"), ("test13", "C0"), ("test13", "UC0")):
+        assert "paired with the sets" in results()[key][1], key
 
 
 def test_differences_are_still_differences() -> None:
