@@ -11,11 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from importlib import resources
 
 from lark import Lark, Token, Tree, UnexpectedInput
 
-from tockbmc.model import ast
+from tockbmc.model import ast, grammars
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import MAX_CSP_NESTING, long_numbers, too_deep
 from tockbmc.model.numbers import max_digits
@@ -50,8 +49,7 @@ class Definition:
 
 @lru_cache(maxsize=1)
 def _parser() -> Lark:
-    grammar = resources.files("tockbmc.model").joinpath("csp.lark").read_text()
-    return Lark(grammar, parser="lalr", propagate_positions=True, maybe_placeholders=False)
+    return grammars.build("csp.lark", propagate_positions=True, maybe_placeholders=False)
 
 
 def position(block: ast.CspBlock, line: int, column: int) -> ast.Pos:

@@ -20,12 +20,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
-from importlib import resources
 from pathlib import Path
 
 from lark import Lark, Token, Tree, UnexpectedInput
 
-from tockbmc.model import ast
+from tockbmc.model import ast, grammars
 from tockbmc.model.csp import position as block_position
 from tockbmc.model.diagnostics import Diagnostic
 
@@ -77,8 +76,7 @@ class NotUnderstood(Exception):
 
 @lru_cache(maxsize=1)
 def _parser() -> Lark:
-    grammar = resources.files("tockbmc.model").joinpath("instantiation.lark").read_text()
-    return Lark(grammar, parser="lalr", propagate_positions=True, maybe_placeholders=False)
+    return grammars.build("instantiation.lark", propagate_positions=True, maybe_placeholders=False)
 
 
 def project_file(root: str | Path) -> Path | None:

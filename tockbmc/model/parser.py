@@ -8,10 +8,10 @@ the resolved model in `tockbmc.model.ast`.
 from __future__ import annotations
 
 from functools import lru_cache
-from importlib import resources
 
 from lark import Lark, Token, Tree, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
+from tockbmc.model import grammars
 from tockbmc.model.ast import Pos
 from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.limits import MAX_NESTING, too_deep
@@ -26,9 +26,8 @@ _TERMINAL_NAMES = {
 
 @lru_cache(maxsize=1)
 def _parser() -> Lark:
-    grammar = resources.files("tockbmc.model").joinpath("robochart.lark").read_text()
-    return Lark(grammar, start=["rct", "assertions"], parser="lalr",
-                propagate_positions=True, maybe_placeholders=False, cache=False)
+    return grammars.build("robochart.lark", start=["rct", "assertions"], propagate_positions=True,
+                          maybe_placeholders=False)
 
 
 def parse(text: str, path: str, kind: str) -> tuple[Tree | None, list[Diagnostic]]:
