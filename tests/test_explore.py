@@ -191,3 +191,49 @@ untimed assertion U : M refines S in the traces model
     assert carried.condition == "-2 ≤ value ≤ -1 or 1 ≤ value ≤ 2", carried
     shown = [s.event for s in e.trace if s.kind != "internal"]
     assert "tock" not in shown and shown[-1].startswith("M::b.out."), shown
+
+
+WITNESS_MODEL = """
+function g(x : int) : int { }
+stm V {
+  const k : int
+  var x : int = 0
+  initial i
+  state a {}
+  state c {}
+  transition t0 { from i to a }
+  transition t1 { from a to a condition x < k action x = x + 1 }
+  transition t2 { from a to c condition x >= k }
+}
+stm U {
+  const k : int
+  initial i
+  junction j
+  state s {}
+  final f
+  transition tj { from i to j }
+  transition t0 { from j to f condition g(k) == 1 }
+  transition t1 { from j to s condition g(k) != 1 }
+}
+"""
+
+
+def test_no_witness_within_the_bound_decides_nothing(tmp_path: Path) -> None:
+    """`c is reachable in V` holds for every k, reached after max(k, 0) internal steps: within 6 steps
+    only for k ≤ 2. The region says where a witness was found, and nothing of the rest (it read
+    "holds ⇔ k ≤ 2, exact for runs of up to 6 steps", as if k = 8 were a violation; review, session 15)."""
+    (tmp_path / "m.rct").write_text(WITNESS_MODEL)
+    (tmp_path / "m.assertions").write_text("assertion R1: c is reachable in V.\n")
+    [e] = explore(tockbmc.load(tmp_path), bound=6, ranges={"core_int": Range(Fraction(0), Fraction(10))}, timeout=60)
+    assert (e.status, e.inside, e.condition, e.reach) == ("unknown", "holds", "V::k ≤ 2", "partial")
+    assert "no witness within 6 steps" in e.reason
+    out = CliRunner().invoke(cli, ["explore", str(tmp_path), "-k", "6", "--range", "core_int=0..10"]).output
+    assert "holds where V::k ≤ 2" in out and "outside it, nothing is known" in out and "⇔" not in out
+
+
+def test_functions_without_a_body_make_regions_unsupported(tmp_path: Path) -> None:
+    """A region over `g(k)` is not a set of values of k (review, session 15: `holds ⇔ 1 == g(U::k)`)."""
+    (tmp_path / "m.rct").write_text(WITNESS_MODEL)
+    (tmp_path / "m.assertions").write_text("assertion R1: f is reachable in U.\nassertion R2: U is deadlock-free.\n")
+    for e in explore(tockbmc.load(tmp_path), ranges={"core_int": Range(Fraction(-1), Fraction(1))}, timeout=60):
+        assert e.status == "unsupported" and "functions without a body (g)" in e.reason, e

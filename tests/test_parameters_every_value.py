@@ -101,3 +101,63 @@ def test_with_the_value_fixed_the_same_claims_are_decided(project: tockbmc.Proje
     for results in (check(project, ["T1", "T2", "P1", "E1"], bound=20, config=config, timeout=60),
                     check_explicit(project, ["T1", "T2", "P1", "E1"], 20, ONE, {}, 60, config=config)):
         assert {r.assertion: r.verdict for r in results} == {n: "holds" for n in ("T1", "T2", "P1", "E1")}
+
+
+FREE = """
+function g(x : int) : int { }
+function h(x : int) : int { precondition x > 0 postcondition result == x }
+function twice(x : int) : int { postcondition result == h(x) + h(x) }
+stm U {
+  const k : int
+  initial i
+  junction j
+  state s {}
+  final f
+  transition tj { from i to j }
+  transition t0 { from j to f condition g(k) == 1 }
+  transition t1 { from j to s condition g(k) != 1 }
+}
+stm V {
+  initial i
+  junction j
+  state s {}
+  final f
+  transition tj { from i to j }
+  transition t0 { from j to f condition twice(0) == 4 }
+  transition t1 { from j to s condition twice(0) != 4 }
+}
+stm W {
+  initial i
+  junction j
+  state s {}
+  final f
+  transition tj { from i to j }
+  transition t0 { from j to f condition h(2) == 2 }
+  transition t1 { from j to s condition h(2) != 2 }
+}
+"""
+FREE_ASSERTIONS = """
+assertion R1: f is reachable in U.
+assertion R2: U does not terminate.
+assertion R3: s is not reachable in U.
+assertion R4: U is deadlock-free.
+assertion V1: f is reachable in V.
+assertion W1: f is reachable in W.
+"""
+
+
+def test_a_witness_that_chose_what_a_function_without_a_body_computes_gives_no_verdict(tmp_path: Path) -> None:
+    """A claim holds when it holds whatever a function without a body computes (docs/semantics.md
+    §6.4): BMC's witness for `f is reachable in U` chose g(0) = 1 (it said `holds`; review, session
+    15), and V's chose h(0), outside h's precondition, through twice's body. W calls h only inside
+    its precondition, where the body fixes it, but the claim is still only said to hold when every
+    function the machine can call is fixed (h's result at 2 is 2, so the witness is sound; the
+    rule is per element, not per call). Violations stand: some g makes each."""
+    write_files(tmp_path, {"m.rct": FREE, "m.assertions": FREE_ASSERTIONS})
+    project = tockbmc.load(tmp_path)
+    config = configure(project, ONE, settings={"U::k": "0"})
+    results = {r.assertion: r for r in check(project, bound=10, config=config, timeout=60)}
+    assert {n: r.verdict for n, r in results.items()} == {
+        "R1": "unknown", "R2": "violated", "R3": "violated", "R4": "violated", "V1": "unknown", "W1": "unknown"}
+    assert "results of the functions without a body (g)" in (results["R1"].reason or "")
+    assert "(h)" in (results["V1"].reason or "") and "(h)" in (results["W1"].reason or "")

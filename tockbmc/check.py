@@ -97,6 +97,7 @@ class _Check:
         self.abstracted = False
         self.q: Query | None = None
         self.parameters: tuple[str, ...] = ()  # constants left parameters (`one_value_only`)
+        self.functions: tuple[str, ...] = ()  # functions without a body the elements call (`one_value_only`)
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
@@ -116,9 +117,9 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
         q = self.q
-        if q is not None and self.parameters and one_value_only(q, decided.verdict):
-            return replace(decided, verdict=Verdict.UNKNOWN, reason=per_value_reason(self.parameters, decided.reason),
-                           proof=Proof.NONE)
+        if q is not None and (self.parameters or self.functions) and one_value_only(q, decided.verdict):
+            return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
+                           reason=per_value_reason(self.parameters, decided.reason, self.functions))
         return decided
 
     def _run(self, project: ast.Project) -> Result:
@@ -133,6 +134,8 @@ class _Check:
             self.parameters = setup.parameters + (self.config.setup(self.a, q.spec_element.element,
                                                                     q.spec_element.settings).parameters
                                                   if q.spec_element is not None else ())
+            self.functions = tuple(f.qname for f in ast.free_functions(
+                q.element, q.defined, q.spec_element.element if q.spec_element is not None else None))
             network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants

@@ -113,6 +113,11 @@ class _Explore:
             if len(kinds) > 1 or (kinds == {Verdict.HOLDS} and len(q.goals) > 1):
                 raise Unsupported(self.a.pos, "explore decides assertions that one kind of run decides; this one "
                                   "needs a witness and the absence of a violation together")
+            free = ast.free_functions(q.element, q.defined)
+            if free:
+                raise Unsupported(self.a.pos, "explore's regions are sets of values of the parameters; this model "
+                                  f"calls functions without a body ({', '.join(f.qname for f in free)}), whose "
+                                  "results a region would have to name")
             setup = self.plan.config.setup(self.a, q.element, q.settings)
             network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
@@ -168,10 +173,16 @@ class _Explore:
         condition = condition_text(pieces, display, integers)
         mentioned = {v.decl().name() for c in pieces for v in constants(*c)}
         complete = all(r.complete for _, r in found)
+        reasons = [r.reason for _, r in found if r.reason]
         proved = [r.proof for _, r in found if r.proof]
         reach = ("every length" if complete and len(proved) == len(found) else "bound" if complete else "partial")
         if complete and condition == "true":  # nothing is outside
-            reach, proved = "every length", ["every point has a counterexample"]
+            reach, proved = "every length", [f"every point has a {'witness' if witness else 'counterexample'}"]
+        elif witness and reach == "bound":
+            # No witness within the bound decides nothing (`Goal.witness`: unknown), so outside the
+            # region nothing is known, as when the search is cut short.
+            reach, complete = "partial", False
+            reasons.append(f"no witness within {self.bound} steps decides nothing")
         fields: dict[str, object] = dict(
             parameters=tuple(display[n] for n in params), fixed=self.fixed(setup),
             fixed_here={k: v for k, v in self.fixed(setup).items()
@@ -179,7 +190,7 @@ class _Explore:
             assumed=tuple(condition_text([[f]], display, integers) for f in assume),
             inside="holds" if witness else "violated", condition=condition,
             independent=tuple(display[n] for n in params if n not in mentioned), reach=reach,
-            proof="; ".join(proved), reason="; ".join(r.reason for _, r in found if r.reason))
+            proof="; ".join(proved), reason="; ".join(reasons))
         witnesses = [(goal, w) for goal, r in found for w in r.witnesses]
         if witnesses:
             goal, w = min(witnesses, key=lambda gw: gw[1].depth)

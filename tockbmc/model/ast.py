@@ -722,6 +722,31 @@ def subexpressions(x: object) -> list[Expr]:
     return found
 
 
+def free_functions(*roots: object) -> list[Function]:
+    """The functions called from `roots` (model elements, operations, expressions: everything they
+    hold, through the definitions of the functions called) whose results no body fixes: without a
+    `result == e` postcondition, or with preconditions, outside which any value is possible
+    (docs/semantics.md §6.4). A claim decided over every run holds whatever they compute, but a run
+    found as a witness stands for the interpretation it chose."""
+    found: dict[int, Function] = {}
+    seen: set[int] = set()
+    stack: list[object] = list(roots)
+    while stack:
+        item = stack.pop()
+        if isinstance(item, (str, int, float, bool, Fraction, Pos)) or item is None or id(item) in seen:
+            continue
+        seen.add(id(item))
+        if isinstance(item, (tuple, list, frozenset, set)):
+            stack.extend(item)
+        elif isinstance(item, dict):
+            stack.extend(item.values())
+        elif dataclasses.is_dataclass(item) and not isinstance(item, type):
+            if isinstance(item, Function) and (item.definition is None or item.preconditions):
+                found.setdefault(id(item), item)
+            stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
+    return sorted(found.values(), key=lambda f: f.qname)
+
+
 # --------------------------------------------------------------------- behaviour
 
 

@@ -162,6 +162,10 @@ def one_value_only(q: Query, verdict: Verdict) -> bool:
     return False
 
 
-def per_value_reason(parameters: tuple[str, ...], reason: str | None) -> str:
-    return (f"shown for some values of the parameters ({', '.join(parameters)}) only: one run, or one trace, "
-            f"stands for the values it starts from, and the claim needs every value ({reason})")
+def per_value_reason(parameters: tuple[str, ...], reason: str | None, functions: tuple[str, ...] = ()) -> str:
+    """Why a verdict `one_value_only` names is unknown: it rests on one choice of the parameters'
+    values, or of what the functions without a body compute (docs/semantics.md §6.3, §6.4)."""
+    some = [f"values of the parameters ({', '.join(parameters)})"] if parameters else []
+    some += [f"results of the functions without a body ({', '.join(functions)})"] if functions else []
+    return (f"shown for some {' and some '.join(some)} only: one run, or one trace, stands for the choice it "
+            f"makes, and the claim needs every one ({reason})")

@@ -44,6 +44,10 @@ def _point(point: dict[str, str]) -> str:
 
 def _statement(e: Exploration) -> str:
     other = "holds" if e.inside == "violated" else "violated"
+    if e.reach == "partial":  # nothing is known outside the region: only where it is, what holds there
+        if e.condition == "false":
+            return f"undecided: no {'witness' if e.inside == 'holds' else 'counterexample'} found"
+        return f"{e.inside} where {e.condition}" if e.condition != "true" else f"{e.inside} for every value"
     if e.condition == "false":
         return f"{other} for every value of the parameters" if e.parameters else f"{other} whatever the ranges"
     if e.condition == "true":
@@ -57,8 +61,10 @@ def _reach(e: Exploration) -> str:
         return f"exact for runs of every length{how}"
     if e.reach == "bound":
         return f"exact for runs of up to {e.bound} steps"
-    return (f"not complete ({e.reason}): every point of the region shown has a counterexample; outside it, "
-            "nothing is known")
+    if e.condition == "false":
+        return f"not complete ({e.reason})"
+    return (f"not complete ({e.reason}): every point of the region shown has a "
+            f"{'witness' if e.inside == 'holds' else 'counterexample'}; outside it, nothing is known")
 
 
 def print_exploration(e: Exploration, console: Console) -> None:
