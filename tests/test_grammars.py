@@ -47,3 +47,23 @@ def test_an_unwritable_cache_only_costs_time(monkeypatch: pytest.MonkeyPatch, tm
     blocker.write_text("not a directory")
     monkeypatch.setenv("XDG_CACHE_HOME", str(blocker))
     assert grammars.build("robochart.lark", **OPTIONS).parse(TEXT, start="rct").data == "rct"
+
+
+def test_a_cache_others_may_write_is_never_loaded(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """A cache file is a pickle: one in a directory others may write could run their code (review,
+    session 15: a mode-777 directory's planted file ran `os.system`)."""
+    _built(monkeypatch, tmp_path)
+    folder = tmp_path / "tockbmc"
+    [saved] = folder.iterdir()
+    saved.write_bytes(b"not a pickle anyone should load")
+    folder.chmod(0o777)
+    loaded: list[object] = []
+    monkeypatch.setattr(lark.Lark, "load", classmethod(lambda cls, f: loaded.append(f)))
+    assert grammars.build("robochart.lark", **OPTIONS).parse(TEXT, start="rct").data == "rct"
+    assert not loaded and saved.read_bytes() == b"not a pickle anyone should load"  # neither read nor written
+
+
+def test_a_relative_cache_home_is_ignored(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/dir")
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert grammars.cache_dir() == tmp_path / ".cache" / "tockbmc"

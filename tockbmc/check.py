@@ -365,7 +365,8 @@ class _Check:
         # Where the interpreter could decide it over the element's configurations, the listing gets
         # half the time left, and the construction the rest (test13 UC0: 81 traces, each with its
         # refusal searches, spent 20 s; the construction takes 0.5 s).
-        fallback = self.a.semantic_model != TICK_TOCK and _interpreted_as_bmc(self.config.project, q, self.ranges)
+        fallback = (self.a.semantic_model != TICK_TOCK and not self.functions
+                    and _interpreted_as_bmc(self.config.project, q, self.ranges))
         start, share = time.perf_counter(), self.time_left()
 
         def listing_time() -> float | None:

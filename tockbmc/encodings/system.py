@@ -332,9 +332,14 @@ class TransitionSystem:
         given = self.settings.get(instance_key(instance, decl)) if instance else None
         given = given if given is not None else constant_setting(self.settings, v, decl)
         expr = given if given is not None else decl.initial
+        if given is not None and ast.omits_fields(given):  # open fields only as an initial value (DESIGN.md)
+            raise Unsupported(given.pos, f"a record literal omitting fields as the value given to constant {v.name}")
         if expr is not None:
             self.constraints += initially(value, v.type, expr, Evaluator({}, {}, self.side, ranges=self.ranges),
                                           self.ranges, declaration_key(decl))
+            if ast.omits_fields(expr):  # its open fields, shown with the trace as an open constant's value
+                self.open_constants.setdefault(instance_name(instance, v) if instance else declaration_key(decl),
+                                               value)
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
             # one parameter per instance of a machine's own constant (`stm_ref0::CC`), as its values are

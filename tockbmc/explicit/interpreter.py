@@ -1709,8 +1709,11 @@ class Interpreter:
                     base[s] = _coerce(var.type, val)
                 elif var.initial is not None:
                     deferred.append((s, info))
-                    if ast.omits_fields(var.initial):  # the omitted fields are open, the others set after
-                        open_slots.append((s, var.type, self._paths_of(info)))
+                    if isinstance(var.initial, ast.RecordLiteral) and var.initial.omitted:
+                        # the omitted fields are open (a record of those only), the given ones set after
+                        assert isinstance(var.type, ast.RecordType)
+                        partial = ast.RecordType(var.type.qname, var.initial.omitted)
+                        open_slots.append((s, partial, self._paths_of(info)))
                 else:
                     open_slots.append((s, var.type, self._paths_of(info)))
         # constants first, then variables, each in declaration order
