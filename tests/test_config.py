@@ -218,6 +218,9 @@ def test_constant_names_resolve_to_declarations(tmp_path: Path) -> None:
         configure(p, settings={"MM::p": "1"})
     with pytest.raises(ConfigError, match="no constant named 'mod'; did you mean 'mode'"):
         configure(p, settings={"mod": "Fast"})
+    # Two names of one declaration are not two instances: the last value had won for both (review, session 15).
+    with pytest.raises(ConfigError, match="mode and M::mode both name constant M::mode"):
+        configure(p, settings={"mode": "Fast", "M::mode": "Slow"})
 
 
 @pytest.mark.parametrize("name, value, message", [

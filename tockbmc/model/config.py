@@ -603,12 +603,19 @@ class Configuration:
             if r is not None:
                 check_range(name, t, r)
             self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
+        named_by: dict[str, str] = {}  # declaration -> the --set name that gave it a value
         for name, given in (settings or {}).items():
             for v in self.names.constant(name, "--set"):
                 value = _value_of_text(given, v.type, name) if isinstance(given, str) else given
                 if not isinstance(given, str) and not ast.assignable(v.type, value.type):
                     raise ConfigError(f"{name} is {v.type}: the value given is {value.type}")
-                self._flags[declaration_key(v)] = _ConstEntry(value, FLAG_SET)
+                key = declaration_key(v)
+                if key in named_by:  # `C::m1::k` and `C::m2::k` both name the declaration: not two instances
+                    raise ConfigError(f"{named_by[key]} and {name} both name constant {key}, whose every instance "
+                                      "--set gives one value; one instance's own value: `with constant … of "
+                                      "ctrl::stm_ref` or the instantiation")
+                named_by[key] = name
+                self._flags[key] = _ConstEntry(value, FLAG_SET)
         for name in params:
             for v in self.names.constant(name, "--param"):
                 key = declaration_key(v)
