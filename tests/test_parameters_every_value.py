@@ -161,3 +161,30 @@ def test_a_witness_that_chose_what_a_function_without_a_body_computes_gives_no_v
         "R1": "unknown", "R2": "violated", "R3": "violated", "R4": "violated", "V1": "unknown", "W1": "holds"}
     assert "results of the functions without a body (g)" in (results["R1"].reason or "")
     assert "(h)" in (results["V1"].reason or "") and results["W1"].extra["replayed"] == "yes"
+
+
+CONDITIONS = """
+function g(a : int) : int { postcondition result > a }
+stm M {
+  var z : int = 0
+  event out : int
+  initial i
+  state s { entry z = g(3) ; out!z }
+  state big {}
+  state hundred {}
+  transition t0 { from i to s }
+  transition t1 { from s to big condition z > 3 }
+  transition t2 { from s to hundred condition z == 100 }
+}
+"""
+
+
+def test_a_witness_that_holds_for_every_function_its_conditions_allow_stands(tmp_path: Path) -> None:
+    """With the run's moves and choices fixed, `z > 3` holds for every g with g(a) > a, so `big is
+    reachable` holds (its output's value is g's, whatever it is); `z == 100` does not, so `hundred
+    is reachable` stays unknown (`bmc.interpretations`)."""
+    write_files(tmp_path, {"m.rct": CONDITIONS, "m.assertions": "assertion Big: big is reachable in M.\n"
+                                                                 "assertion Hundred: hundred is reachable in M.\n"})
+    results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
+    assert results["Big"].verdict == "holds" and "functions" in results["Big"].extra
+    assert results["Hundred"].verdict == "unknown" and "(g)" in (results["Hundred"].reason or "")

@@ -20,6 +20,7 @@ import z3
 from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
 from tockbmc.bmc.engine import SPENT, Outcome, Progress, Status
 from tockbmc.bmc.inclusion import Inclusion, included
+from tockbmc.bmc.interpretations import every_interpretation
 from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
@@ -120,7 +121,7 @@ class _Check:
         # A witness the interpreter replayed whole never read a function without a body (it cannot
         # evaluate one): the same run exists whatever they compute. Not so for parameters: the
         # replay starts from the values the run chose.
-        replayed = decided.extra.get("replayed") == "yes" and not self.parameters
+        replayed = not self.parameters and (decided.extra.get("replayed") == "yes" or "functions" in decided.extra)
         if q is not None and (self.parameters or self.functions) and not replayed \
                 and one_value_only(q, decided.verdict):
             return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
@@ -244,6 +245,9 @@ class _Check:
             why = "; ".join([*self.reasons, f"witness: {why}"])
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
         extra: dict[str, object] = {"replayed": replayed}
+        if goal.found == Verdict.HOLDS and self.functions and not self.parameters and replayed != "yes" \
+                and every_interpretation(u, model, outcome.depth, goal.target(u.system)):
+            extra["functions"] = "the run stands whatever they compute"  # `run` keeps the verdict
         if goal.details is not None:
             extra.update(goal.details(u, model, outcome.depth))
         if outcome.reason:  # `shortest="events"` could not finish
