@@ -246,7 +246,7 @@ class _Check:
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
         extra: dict[str, object] = {"replayed": replayed}
         if goal.found == Verdict.HOLDS and self.functions and not self.parameters and replayed != "yes" \
-                and every_interpretation(u, model, outcome.depth, goal.target(u.system)):
+                and every_interpretation(u, model, outcome.depth, goal.target(u.system), self.time_left()):
             extra["functions"] = "the run stands whatever they compute"  # `run` keeps the verdict
         if goal.details is not None:
             extra.update(goal.details(u, model, outcome.depth))

@@ -21,7 +21,7 @@ from tockbmc.encodings.terms import subterms
 from tockbmc.encodings.unroller import Unroller, int_value
 from tockbmc.encodings.values import leaves
 
-_TIMEOUT_MS = 5000
+_MOST_SECONDS = 5.0
 
 
 def _calls_functions(term: z3.ExprRef) -> bool:
@@ -29,11 +29,13 @@ def _calls_functions(term: z3.ExprRef) -> bool:
                for t in subterms(term))
 
 
-def every_interpretation(u: Unroller, model: z3.ModelRef, depth: int, target: z3.BoolRef) -> bool:
+def every_interpretation(u: Unroller, model: z3.ModelRef, depth: int, target: z3.BoolRef,
+                         seconds: float | None = None) -> bool:
     """Whether the run `model` gives `u` up to `depth` reaches `target` whatever the functions
     without a body compute (within their conditions), its moves and chosen values kept. False
     when that is not shown: an extension steps beside the network (a specification's monitor), the
-    initial configuration or the target calls a function, or Z3 does not answer in time."""
+    initial configuration or the target calls a function, or Z3 does not answer within `seconds`
+    (at most 5)."""
     s = u.system
     if s.extensions or _calls_functions(s.init()) or _calls_functions(target) \
             or any(_calls_functions(c) for c in s.invariants()):
@@ -58,7 +60,7 @@ def every_interpretation(u: Unroller, model: z3.ModelRef, depth: int, target: z3
     holds.append(z3.substitute(target, *[(s.cur[n], frame[n]) for n in s.sorts]))
     assumed += [z3.substitute(a, *[(s.cur[n], frame[n]) for n in s.sorts]) for a in s.side]
     solver = z3.Solver()
-    solver.set(timeout=_TIMEOUT_MS)
+    solver.set(timeout=max(1, int(1000 * min(_MOST_SECONDS, seconds if seconds is not None else _MOST_SECONDS))))
     solver.add(assumed)
     solver.add(z3.Not(z3.And(holds)))
     return solver.check() == z3.unsat
