@@ -159,7 +159,7 @@ def test_a_witness_that_chose_what_a_function_without_a_body_computes_gives_no_v
     results = {r.assertion: r for r in check(project, bound=10, config=config, timeout=60)}
     assert {n: r.verdict for n, r in results.items()} == {
         "R1": "unknown", "R2": "violated", "R3": "violated", "R4": "violated", "V1": "unknown", "W1": "holds"}
-    assert "results of the functions without a body (g)" in (results["R1"].reason or "")
+    assert "the run rests on what the model leaves open (g)" in (results["R1"].reason or "")
     assert "(h)" in (results["V1"].reason or "") and results["W1"].extra["replayed"] == "yes"
 
 
@@ -186,5 +186,66 @@ def test_a_witness_that_holds_for_every_function_its_conditions_allow_stands(tmp
     write_files(tmp_path, {"m.rct": CONDITIONS, "m.assertions": "assertion Big: big is reachable in M.\n"
                                                                  "assertion Hundred: hundred is reachable in M.\n"})
     results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
-    assert results["Big"].verdict == "holds" and "functions" in results["Big"].extra
+    assert results["Big"].verdict == "holds" and "unspecified" in results["Big"].extra
     assert results["Hundred"].verdict == "unknown" and "(g)" in (results["Hundred"].reason or "")
+
+
+OPEN = """
+function g() : int { }
+function k1(a : int) : int { postcondition result > a }
+stm A {
+  var x : int = g()
+  initial i
+  state s {}
+  state yes {}
+  transition t0 { from i to s }
+  transition t1 { from s to yes condition x == 1 }
+}
+stm B {
+  const k : int = k1(1)
+  var x : int = 0
+  initial i
+  state s {}
+  state yes {}
+  transition t0 { from i to s action x = k }
+  transition t1 { from s to yes condition x == 3 }
+}
+stm L {
+  var f : int -> int
+  var x : int = 0
+  initial i
+  state s {}
+  state yes {}
+  transition t0 { from i to s action f = lambda y : int | y > 0 @ y ; x = f(0 - 1) }
+  transition t1 { from s to yes condition x == 2 }
+}
+stm Q {
+  var s : Seq(int) = <1, 2>
+  var x : int = 0
+  var z : int = 0
+  initial i
+  state a {}
+  state yes {}
+  state no {}
+  transition t0 { from i to a action x = s[5] }
+  transition t1 { from a to yes condition x == 7 }
+  transition t2 { from a to no condition 7 / z == 3 }
+}
+"""
+
+
+def test_a_witness_resting_on_any_value_the_model_leaves_open_gives_no_verdict(tmp_path: Path) -> None:
+    """Review, session 15: each said `holds`. A's initial value calls g, which has no parameters (a
+    Z3 constant); B's constant rests on k1 (the replay took its value from the run); L applies a
+    lambda outside its condition, Q reads an item past a sequence's end and divides by zero: any
+    value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value."""
+    write_files(tmp_path, {"m.rct": OPEN, "m.assertions": "".join(
+        f"assertion {n}: {st} is reachable in {m}.\n" for n, st, m in
+        (("A1", "yes", "A"), ("B1", "yes", "B"), ("L1", "yes", "L"), ("Q1", "yes", "Q"), ("Q2", "no", "Q")))})
+    results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
+    assert {n: r.verdict for n, r in results.items()} == {n: "unknown" for n in ("A1", "B1", "L1", "Q1", "Q2")}, \
+        {n: r.reason for n, r in results.items()}
+    assert "(g)" in (results["A1"].reason or "") and "(k1)" in (results["B1"].reason or "")
+    assert "a lambda outside its condition" in (results["L1"].reason or "")
+    assert "a sequence's item outside its length" in (results["Q1"].reason or "")
+    assert "a division by zero" in (results["Q2"].reason or "")

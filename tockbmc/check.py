@@ -20,7 +20,7 @@ import z3
 from tockbmc.bmc.determinism import Pair, configuration_of, nondeterminism
 from tockbmc.bmc.engine import SPENT, Outcome, Progress, Status
 from tockbmc.bmc.inclusion import Inclusion, included
-from tockbmc.bmc.interpretations import every_interpretation
+from tockbmc.bmc.interpretations import every_interpretation, start_unspecified, unspecified
 from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
@@ -99,6 +99,7 @@ class _Check:
         self.q: Query | None = None
         self.parameters: tuple[str, ...] = ()  # constants left parameters (`one_value_only`)
         self.functions: tuple[str, ...] = ()  # functions without a body the elements call (`one_value_only`)
+        self.witnessed = False  # whether `found` decided a witness (and weighed what it rests on)
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
@@ -118,14 +119,13 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
         q = self.q
-        # A witness the interpreter replayed whole never read a function without a body (it cannot
-        # evaluate one): the same run exists whatever they compute. Not so for parameters: the
-        # replay starts from the values the run chose.
-        replayed = not self.parameters and (decided.extra.get("replayed") == "yes" or "functions" in decided.extra)
-        if q is not None and (self.parameters or self.functions) and not replayed \
-                and one_value_only(q, decided.verdict):
+        # A witness run (`found`) was weighed there against what the model leaves open; other
+        # verdicts that one run or trace shows (the specification on the left) rest on the choice
+        # it made, of a parameter's value or of a function's results.
+        functions = self.functions if not self.witnessed else ()
+        if q is not None and (self.parameters or functions) and one_value_only(q, decided.verdict):
             return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
-                           reason=per_value_reason(self.parameters, decided.reason, self.functions))
+                           reason=per_value_reason(self.parameters, decided.reason, functions))
         return decided
 
     def _run(self, project: ast.Project) -> Result:
@@ -245,9 +245,21 @@ class _Check:
             why = "; ".join([*self.reasons, f"witness: {why}"])
         replayed = replay_trace(q, self.a, goal, trace, initial_choices(u, model), self.ranges, self.consts)
         extra: dict[str, object] = {"replayed": replayed}
-        if goal.found == Verdict.HOLDS and self.functions and not self.parameters and replayed != "yes" \
-                and every_interpretation(u, model, outcome.depth, goal.target(u.system), self.time_left()):
-            extra["functions"] = "the run stands whatever they compute"  # `run` keeps the verdict
+        if goal.found == Verdict.HOLDS and not self.parameters:  # a witness: does it rest on a choice?
+            self.witnessed = True
+            left = unspecified(u.system, goal.target(u.system), self.functions)
+            if left:
+                # The interpreter evaluates none of these: a run it replays whole met none, unless
+                # it began with values that rest on one (the replay takes them from the run).
+                if replayed == "yes" and not start_unspecified(u.system, self.functions) or \
+                        every_interpretation(u, model, outcome.depth, goal.target(u.system), self.functions,
+                                             self.time_left()):
+                    extra["unspecified"] = f"the run stands whatever the model leaves open ({', '.join(left)})"
+                else:
+                    return self.result(Verdict.UNKNOWN, f"{why}, but the run rests on what the model leaves open "
+                                       f"({', '.join(left)}), and the claim needs every choice there (docs/"
+                                       "semantics.md §6.4)", proof=Proof.NONE, depth=outcome.depth, trace=trace,
+                                       extra=extra)
         if goal.details is not None:
             extra.update(goal.details(u, model, outcome.depth))
         if outcome.reason:  # `shortest="events"` could not finish
