@@ -349,6 +349,8 @@ class _Check:
         choices = pair.choices if pair.choices is not None else initial_choices(a, model)
         replayed = replay_pair(q, trace, other, choices, self.ranges, self.consts)
         verdict = Verdict.HOLDS if self.a.negated else Verdict.VIOLATED
+        if replayed == "yes" and not self.parameters and not start_unspecified(a.system, self.functions):
+            self.witnessed = True  # both runs replayed whole: neither met a function without a body
         return replace(self.result(verdict, why, proof=Proof.TRACE, depth=len(trace), trace=trace,
                                    extra={"replayed": replayed}), other_trace=other)
 

@@ -56,12 +56,12 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str]) -> list[str]:
                     out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
                 elif name == "update.outside":
                     out["a sequence updated outside its length"] = None
+                elif name == "index.outside":
+                    out["a sequence's item outside its length"] = None
                 elif name.startswith("toolkit."):
                     out[f"{name[8:]} of a set without one"] = None
                 else:
                     out[name.removesuffix(".outside")] = None
-            elif kind == z3.Z3_OP_SEQ_NTH:
-                out["a sequence's item outside its length"] = None
             elif kind in _DIVISIONS and not _nonzero_numeral(t.arg(1)):
                 out["a division by zero"] = None
     return list(out)

@@ -582,8 +582,13 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
             assert isinstance(e.index, ast.Literal)
             return value[str(e.index.value)]
         assert not isinstance(index, dict)
-        # Outside 1..#s Z3's `nth` is unspecified: any value, as a function outside its precondition.
-        return unpack(value[index - 1], e.type)
+        # Outside 1..#s any value, as a function outside its precondition: one uninterpreted
+        # function of (s, i) there (Z3's own `nth` is unspecified there too, but a witness that
+        # rests on it must be told from one that does not: `bmc.interpretations`).
+        assert isinstance(value, z3.SeqRef)
+        outside = z3.Function("index.outside", value.sort(), z3.IntSort(), value.sort().basis())  # type: ignore[attr-defined]
+        inside = z3.And(index >= 1, index <= z3.Length(value))  # type: ignore[operator]
+        return unpack(z3.If(inside, value[index - 1], outside(value, index)), e.type)
     assert isinstance(e, ast.Builtin)
     return _builtin(e, operands)
 
