@@ -8,7 +8,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
-from conftest import SHARED
+from conftest import SHARED, both_engines
 
 from tockbmc import ModelError, Project, load
 from tockbmc.check import check
@@ -366,3 +366,29 @@ def test_a_function_whose_conditions_read_a_record_parameter(tmp_path: Path) -> 
     (tmp_path / "m.assertions").write_text("assertion A: Small is not reachable in M.\n")
     [r] = check(load(tmp_path), bound=8)
     assert r.verdict == Verdict.HOLDS, r.reason
+
+
+def test_a_function_value_s_result_type_binds_only_the_step_that_applies_it(tmp_path: Path) -> None:
+    """`f : nat -> nat = lambda x : nat @ x - 5` applied only on a transition never taken: BMC had
+    asserted `f(y + 1) >= 0` at every step, which with y = 0 cut every run (deadlock-free was proved,
+    dead unreachable; review, session 15). It is now a condition of the step that applies it."""
+    (tmp_path / "m.rct").write_text("""
+stm M {
+  var f : nat -> nat = lambda x : nat @ x - 5
+  var y : int = 0
+  var n : nat = 0
+  event e
+  initial i
+  state s {}
+  state dead {}
+  state t {}
+  transition t0 { from i to s }
+  transition t1 { from s to dead condition y == 0 }
+  transition t2 { from s to t trigger e condition y > 10 action n = f(y + 1) }
+}
+""")
+    (tmp_path / "m.assertions").write_text("assertion D: M is deadlock-free.\nassertion R: dead is reachable in M.\n")
+    ranges = Ranges({"core_int": Range(Fraction(-3), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
+    bmc, explicit = both_engines(load(tmp_path), ranges, 10, timeout=30)
+    for results in (bmc, explicit):
+        assert {r.assertion: r.verdict for r in results} == {"D": "violated", "R": "holds"}

@@ -438,6 +438,7 @@ class TransitionSystem:
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
         ev = self.evaluator(c, bound)
+        ev.guards = enabled
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
         enabled += [ev.scalar(g) for g in e.guard]
@@ -450,7 +451,9 @@ class TransitionSystem:
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
         for a in e.updates:
-            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges).value(a.value)
+            update = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges)
+            update.guards = enabled
+            new = update.value(a.value)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)

@@ -291,12 +291,18 @@ class Evaluator:
         self.side = side  # constraints that calls of uninterpreted functions add
         self.clocks = clocks or {}  # clock name (or `sinceEntry(S)`) -> tocks counted
         self.ranges = ranges or Ranges()  # the ranges quantified variables take their values in
+        # Where a step's own conditions go (set by the step that evaluates): that a function value
+        # applied here gives a value of its result type concerns this step only, not every step
+        # (a lambda's result reads the configuration). None: with the functions' axioms.
+        self.guards: list[z3.BoolRef] | None = None
 
     def _inner(self, env: dict[int, Value], constants: dict[int, Value] | None = None,
                side: list[z3.BoolRef] | None = None) -> Evaluator:
         """An evaluator for a nested scope (a `let`, a quantifier, a function's body)."""
-        return type(self)(env, self.constants if constants is None else constants,
-                          self.side if side is None else side, self.clocks, self.ranges)
+        inner = type(self)(env, self.constants if constants is None else constants,
+                           self.side if side is None else side, self.clocks, self.ranges)
+        inner.guards = self.guards if side is None else None  # a quantifier's scope keeps its own
+        return inner
 
     def value(self, e: ast.Expr) -> Value:
         """The Z3 value of `e`: operands first, from an explicit stack (expressions may nest
@@ -393,7 +399,8 @@ class Evaluator:
             f, *args = operands
             assert isinstance(e.function.type, ast.FunctionType) and not isinstance(f, dict)
             result = unpack(f[_argument(e.function.type, args)], e.type)
-            self.side += domain(result, e.type, Ranges(), "result")  # a result is a value of its type
+            # a result is a value of its type: a condition of the step that applies it
+            (self.guards if self.guards is not None else self.side).extend(domain(result, e.type, Ranges(), "result"))
             return result
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
