@@ -100,6 +100,7 @@ class _Check:
         self.parameters: tuple[str, ...] = ()  # constants left parameters (`one_value_only`)
         self.functions: tuple[str, ...] = ()  # functions without a body the elements call (`one_value_only`)
         self.witnessed = False  # whether `found` decided a witness (and weighed what it rests on)
+        self.network: Network | None = None
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
@@ -119,14 +120,28 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
         q = self.q
-        # A witness run (`found`) was weighed there against what the model leaves open; other
-        # verdicts that one run or trace shows (the specification on the left) rest on the choice
-        # it made, of a parameter's value or of a function's results.
+        if q is None or not one_value_only(q, decided.verdict):
+            return decided
+        # A verdict one run or trace shows (a witness, the specification on the left, a pair of
+        # runs) rests on the choices it made: of a parameter's value, or of what the model leaves
+        # open. A witness run (`found`), and a pair both replayed whole, were weighed already.
         functions = self.functions if not self.witnessed else ()
-        if q is not None and (self.parameters or functions) and one_value_only(q, decided.verdict):
+        if self.parameters:
             return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
                            reason=per_value_reason(self.parameters, decided.reason, functions))
+        left = list(functions) or ([] if self.witnessed else self.open_values())
+        if left:
+            return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
+                           reason=f"shown by a run or trace that rests on what the model leaves open "
+                                  f"({', '.join(left)}), and the claim needs every choice there "
+                                  f"(docs/semantics.md §6.4): {decided.reason}")
         return decided
+
+    def open_values(self) -> list[str]:
+        """What the element's runs can meet that the model leaves open (`bmc.interpretations`)."""
+        if self.network is None:
+            return []
+        return unspecified(TransitionSystem(self.network, self.ranges, self.consts), z3.BoolVal(True), self.functions)
 
     def _run(self, project: ast.Project) -> Result:
         try:
@@ -142,7 +157,7 @@ class _Check:
                                                   if q.spec_element is not None else ())
             self.functions = tuple(f.qname for f in ast.free_functions(
                 q.element, q.defined, q.spec_element.element if q.spec_element is not None else None))
-            network = network_of(q.element, dict(q.defined), timed=q.timed)
+            network = self.network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
             if q.context is not None:  # a specification's input read later is told apart value by value
@@ -366,6 +381,7 @@ class _Check:
         found = included_by_subsets(self.config.project, self.a, self.bound, self.config, self.time_left())
         if found is None:
             return None
+        self.witnessed = True  # the interpreter's own configurations: it evaluated nothing left open
         how = (f"{why}, so the specification's states were paired with the sets of configurations the "
                "interpreter reaches by the same trace (finite under these ranges) instead: ")
         if found.verdict == Verdict.HOLDS and self.reasons:

@@ -27,7 +27,7 @@ from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import subterms
 from tockbmc.encodings.unroller import Unroller, int_value
-from tockbmc.encodings.values import leaves
+from tockbmc.encodings.values import ITEM_OUTSIDE, UPDATE_OUTSIDE, leaves
 
 _MOST_SECONDS = 5.0
 _DIVISIONS = (z3.Z3_OP_DIV, z3.Z3_OP_IDIV, z3.Z3_OP_MOD, z3.Z3_OP_REM)
@@ -54,9 +54,9 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str]) -> list[str]:
             if kind == z3.Z3_OP_UNINTERPRETED and (decl.arity() > 0 or name.removesuffix(".outside") in functions):
                 if name.startswith("lambda!"):
                     out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
-                elif name == "update.outside":
+                elif name == UPDATE_OUTSIDE:
                     out["a sequence updated outside its length"] = None
-                elif name == "index.outside":
+                elif name == ITEM_OUTSIDE:
                     out["a sequence's item outside its length"] = None
                 elif name.startswith("toolkit."):
                     out[f"{name[8:]} of a set without one"] = None

@@ -384,6 +384,14 @@ class Evaluator:
             [a] = operands
             assert not isinstance(a, dict)
             return _set_size(e, e.args[0].type, a, self.ranges)
+        if isinstance(e, ast.Index) and not isinstance(operands[0], dict) \
+                or isinstance(e, ast.Builtin) and e.op in ("head", "last"):
+            # an item outside the sequence is any value of the item's type (as a function's result)
+            seq = operands[0]
+            assert isinstance(seq, z3.SeqRef)
+            at = operands[1] if isinstance(e, ast.Index) else z3.IntVal(1) if e.op == "head" else z3.Length(seq)
+            assert not isinstance(at, dict)
+            self.side += domain(unpack(seq_item(seq, at)[1], e.type), e.type, given_types(self.ranges), "item")
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
             return _collection(e, operands)
         if isinstance(e, ast.Let):
@@ -399,8 +407,12 @@ class Evaluator:
             f, *args = operands
             assert isinstance(e.function.type, ast.FunctionType) and not isinstance(f, dict)
             result = unpack(f[_argument(e.function.type, args)], e.type)
-            # a result is a value of its type: a condition of the step that applies it
-            (self.guards if self.guards is not None else self.side).extend(domain(result, e.type, Ranges(), "result"))
+            # A result is a value of its type. Of a function nobody set (a variable without an
+            # initial value: any function) that is what the environment chose, at every step; of
+            # one the model made (a lambda), a condition of the step that applies it.
+            chosen = isinstance(e.function, ast.VarRef) and e.function.variable.initial is None
+            where = self.side if chosen or self.guards is None else self.guards
+            where.extend(domain(result, e.type, Ranges(), "result"))
             return result
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
@@ -565,6 +577,19 @@ def _argument(t: ast.FunctionType, args: list[Value]) -> z3.ExprRef:
     return pack({str(i): a for i, a in enumerate(args, 1)}, t.domain)
 
 
+ITEM_OUTSIDE = "!index.outside"  # not a name a model can give a function (`bmc.interpretations`)
+UPDATE_OUTSIDE = "!update.outside"
+
+
+def seq_item(s: z3.SeqRef, i: z3.ExprRef) -> tuple[z3.ExprRef, z3.ExprRef]:
+    """The i-th item of `s` (from 1), and the value it has where i is outside 1..#s: any value,
+    as a function outside its precondition, one uninterpreted function of (s, i) (Z3's own `nth`
+    is unspecified there too, but a witness that rests on it must be told from one that does not:
+    `bmc.interpretations`; and that value is kept in the item's type by the evaluator)."""
+    outside = z3.Function(ITEM_OUTSIDE, s.sort(), z3.IntSort(), s.sort().basis())(s, i)  # type: ignore[attr-defined]
+    return z3.If(z3.And(i >= 1, i <= z3.Length(s)), s[i - 1], outside), outside  # type: ignore[operator]
+
+
 def _collection(e: ast.Expr, operands: list[Value]) -> Value:
     """The value of a sequence, set or tuple expression given its operands' values."""
     t = e.type
@@ -589,13 +614,8 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
             assert isinstance(e.index, ast.Literal)
             return value[str(e.index.value)]
         assert not isinstance(index, dict)
-        # Outside 1..#s any value, as a function outside its precondition: one uninterpreted
-        # function of (s, i) there (Z3's own `nth` is unspecified there too, but a witness that
-        # rests on it must be told from one that does not: `bmc.interpretations`).
         assert isinstance(value, z3.SeqRef)
-        outside = z3.Function("index.outside", value.sort(), z3.IntSort(), value.sort().basis())  # type: ignore[attr-defined]
-        inside = z3.And(index >= 1, index <= z3.Length(value))  # type: ignore[operator]
-        return unpack(z3.If(inside, value[index - 1], outside(value, index)), e.type)
+        return unpack(seq_item(value, index)[0], e.type)
     assert isinstance(e, ast.Builtin)
     return _builtin(e, operands)
 
@@ -634,15 +654,15 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         i, item = xs[1], xs[2]
         n = z3.Length(a)
         replaced = z3.Concat(z3.SubSeq(a, 0, i - 1), z3.Unit(item), z3.SubSeq(a, i, n - i))
-        outside = z3.Function("update.outside", a.sort(), z3.IntSort(), item.sort(), a.sort())
+        outside = z3.Function(UPDATE_OUTSIDE, a.sort(), z3.IntSort(), item.sort(), a.sort())
         return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
     if op == "size":  # of a sequence (a set's: `_set_size`, which needs the ranges)
         return z3.Length(a)
     if op == "isNonEmpty":
         return z3.Length(a) > 0
     if op in ("head", "last"):
-        assert isinstance(st, ast.SeqType)
-        return unpack(a[0] if op == "head" else a[z3.Length(a) - 1], st.element)
+        assert isinstance(st, ast.SeqType) and isinstance(a, z3.SeqRef)
+        return unpack(seq_item(a, z3.IntVal(1) if op == "head" else z3.Length(a))[0], st.element)
     if op == "tail":
         return z3.SubSeq(a, 1, z3.Length(a) - 1)
     if op == "front":
