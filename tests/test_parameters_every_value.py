@@ -271,3 +271,26 @@ def test_what_the_model_leaves_open(case: str, expected: dict[str, str]) -> None
     ranges = Ranges({"core_int": Range(Fraction(-3), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
     results = check(tockbmc.load(OPEN_VALUES / case), bound=10, ranges=ranges, timeout=60)
     assert {r.assertion: r.verdict for r in results} == expected, {r.assertion: r.reason for r in results}
+
+
+def test_a_division_by_a_constant_that_is_not_zero_leaves_nothing_open(tmp_path: Path) -> None:
+    """`since(C) >= PI / av` with av = 2 (SRangerRC2RS's A1/A3 had become `unknown`, the division
+    counted as one that might be by zero): only a divisor the constants' values allow to be 0 counts."""
+    write_files(tmp_path, {"m.rct": """
+stm M {
+  const PI : real = 3
+  const av : real = 2
+  const z : real = 0
+  var x : real = 0
+  initial i
+  state s {}
+  state a {}
+  state b {}
+  transition t0 { from i to s }
+  transition t1 { from s to a condition x + 2 >= PI / av }
+  transition t2 { from s to b condition x / z == 4 }
+}
+""", "m.assertions": "assertion A: a is reachable in M.\nassertion B: b is reachable in M.\n"})
+    results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
+    assert results["A"].verdict == "holds" and results["B"].verdict == "unknown"
+    assert "a division by zero" in (results["B"].reason or "")

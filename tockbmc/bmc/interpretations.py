@@ -41,10 +41,22 @@ def _nonzero_numeral(x: z3.ExprRef) -> bool:
     return False
 
 
-def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str]) -> list[str]:
+def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterable[z3.BoolRef] = ()) -> list[str]:
     """What the terms leave unspecified, as the report names it: a function by its name (one with no
-    parameters is a constant in Z3, known by `functions`), else the kind of value."""
+    parameters is a constant in Z3, known by `functions`), else the kind of value. A division counts
+    unless `facts` (the constants' values) rule out a zero divisor (`PI / av` with av = 2)."""
     out: dict[str, None] = {}
+    facts = list(facts)
+
+    def may_be_zero(divisor: z3.ExprRef) -> bool:
+        if _nonzero_numeral(divisor):
+            return False
+        solver = z3.Solver()
+        solver.set(timeout=1000)
+        solver.add(facts)
+        solver.add(divisor == 0)  # type: ignore[arg-type]
+        return solver.check() != z3.unsat
+
     for term in terms:
         for t in subterms(term):
             if not z3.is_app(t):
@@ -62,14 +74,15 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str]) -> list[str]:
                     out[f"{name[8:]} of a set without one"] = None
                 else:
                     out[name.removesuffix(".outside")] = None
-            elif kind in _DIVISIONS and not _nonzero_numeral(t.arg(1)):
+            elif kind in _DIVISIONS and "a division by zero" not in out and may_be_zero(t.arg(1)):
                 out["a division by zero"] = None
     return list(out)
 
 
 def unspecified(system: TransitionSystem, target: z3.BoolRef, functions: Iterable[str] = ()) -> list[str]:
     """What the runs of `system` to `target` can meet that the model leaves unspecified."""
-    return _found([system.init(), system.trans(), target, *system.invariants(), *system.side], frozenset(functions))
+    return _found([system.init(), system.trans(), target, *system.invariants(), *system.side], frozenset(functions),
+                  system.invariants())
 
 
 def start_unspecified(system: TransitionSystem, functions: Iterable[str] = ()) -> bool:
