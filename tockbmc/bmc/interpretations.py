@@ -27,7 +27,7 @@ from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import subterms
 from tockbmc.encodings.unroller import Unroller, int_value
-from tockbmc.encodings.values import ITEM_OUTSIDE, UPDATE_OUTSIDE, leaves
+from tockbmc.encodings.values import UPDATE_OUTSIDE, leaves
 
 _MOST_SECONDS = 5.0
 _DIVISIONS = (z3.Z3_OP_DIV, z3.Z3_OP_IDIV, z3.Z3_OP_MOD, z3.Z3_OP_REM)
@@ -46,7 +46,20 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
     parameters is a constant in Z3, known by `functions`), else the kind of value. A division counts
     unless `facts` (the constants' values) rule out a zero divisor (`PI / av` with av = 2)."""
     out: dict[str, None] = {}
-    facts = list(facts)
+    terms, facts = list(terms), list(facts)
+    # Z3's `nth` outside a quantifier: the model's own reads of an item (and head, last); inside
+    # one, the domain constraints read items within the length only (a model's quantified read
+    # outside it is missed).
+    unquantified: set[int] = set()
+    stack = list(terms)
+    while stack:
+        t = stack.pop()
+        if t.get_id() in unquantified or z3.is_quantifier(t):
+            continue
+        unquantified.add(t.get_id())
+        if z3.is_app(t) and t.decl().kind() == z3.Z3_OP_SEQ_NTH:
+            out["a sequence's item outside its length"] = None
+        stack += t.children()
 
     def may_be_zero(divisor: z3.ExprRef) -> bool:
         if _nonzero_numeral(divisor):
@@ -68,8 +81,6 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
                     out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
                 elif name == UPDATE_OUTSIDE:
                     out["a sequence updated outside its length"] = None
-                elif name == ITEM_OUTSIDE:
-                    out["a sequence's item outside its length"] = None
                 elif name.startswith("toolkit."):
                     out[f"{name[8:]} of a set without one"] = None
                 else:

@@ -384,14 +384,6 @@ class Evaluator:
             [a] = operands
             assert not isinstance(a, dict)
             return _set_size(e, e.args[0].type, a, self.ranges)
-        if isinstance(e, ast.Index) and not isinstance(operands[0], dict) \
-                or isinstance(e, ast.Builtin) and e.op in ("head", "last"):
-            # an item outside the sequence is any value of the item's type (as a function's result)
-            seq = operands[0]
-            assert isinstance(seq, z3.SeqRef)
-            at = operands[1] if isinstance(e, ast.Index) else z3.IntVal(1) if e.op == "head" else z3.Length(seq)
-            assert not isinstance(at, dict)
-            self.side += domain(unpack(seq_item(seq, at)[1], e.type), e.type, given_types(self.ranges), "item")
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
             return _collection(e, operands)
         if isinstance(e, ast.Let):
@@ -577,17 +569,7 @@ def _argument(t: ast.FunctionType, args: list[Value]) -> z3.ExprRef:
     return pack({str(i): a for i, a in enumerate(args, 1)}, t.domain)
 
 
-ITEM_OUTSIDE = "!index.outside"  # not a name a model can give a function (`bmc.interpretations`)
-UPDATE_OUTSIDE = "!update.outside"
-
-
-def seq_item(s: z3.SeqRef, i: z3.ExprRef) -> tuple[z3.ExprRef, z3.ExprRef]:
-    """The i-th item of `s` (from 1), and the value it has where i is outside 1..#s: any value,
-    as a function outside its precondition, one uninterpreted function of (s, i) (Z3's own `nth`
-    is unspecified there too, but a witness that rests on it must be told from one that does not:
-    `bmc.interpretations`; and that value is kept in the item's type by the evaluator)."""
-    outside = z3.Function(ITEM_OUTSIDE, s.sort(), z3.IntSort(), s.sort().basis())(s, i)  # type: ignore[attr-defined]
-    return z3.If(z3.And(i >= 1, i <= z3.Length(s)), s[i - 1], outside), outside  # type: ignore[operator]
+UPDATE_OUTSIDE = "!update.outside"  # not a name a model can give a function (`bmc.interpretations`)
 
 
 def _collection(e: ast.Expr, operands: list[Value]) -> Value:
@@ -614,8 +596,11 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
             assert isinstance(e.index, ast.Literal)
             return value[str(e.index.value)]
         assert not isinstance(index, dict)
-        assert isinstance(value, z3.SeqRef)
-        return unpack(seq_item(value, index)[0], e.type)
+        # Outside 1..#s Z3's `nth` is unspecified: any value, as a function outside its
+        # precondition (`bmc.interpretations` tells a witness that rests on it). An uninterpreted
+        # function there instead (session 15) slowed Z3 down on RoboArch's SkillsManager, and
+        # made it fail ("Overflow encountered when expanding vector").
+        return unpack(value[index - 1], e.type)
     assert isinstance(e, ast.Builtin)
     return _builtin(e, operands)
 
@@ -661,8 +646,8 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     if op == "isNonEmpty":
         return z3.Length(a) > 0
     if op in ("head", "last"):
-        assert isinstance(st, ast.SeqType) and isinstance(a, z3.SeqRef)
-        return unpack(seq_item(a, z3.IntVal(1) if op == "head" else z3.Length(a))[0], st.element)
+        assert isinstance(st, ast.SeqType)
+        return unpack(a[0] if op == "head" else a[z3.Length(a) - 1], st.element)
     if op == "tail":
         return z3.SubSeq(a, 1, z3.Length(a) - 1)
     if op == "front":
