@@ -262,13 +262,13 @@ class _Check:
         extra: dict[str, object] = {"replayed": replayed}
         if goal.found == Verdict.HOLDS and not self.parameters:  # a witness: does it rest on a choice?
             self.witnessed = True
-            left = unspecified(u.system, goal.target(u.system), self.functions)
+            target = goal.target(u.system)
+            left = unspecified(u.system, target, self.functions)
             if left:
                 # The interpreter evaluates none of these: a run it replays whole met none, unless
                 # it began with values that rest on one (the replay takes them from the run).
                 if replayed == "yes" and not start_unspecified(u.system, self.functions) or \
-                        every_interpretation(u, model, outcome.depth, goal.target(u.system), self.functions,
-                                             self.time_left()):
+                        every_interpretation(u, model, outcome.depth, target, self.functions, self.time_left()):
                     extra["unspecified"] = f"the run stands whatever the model leaves open ({', '.join(left)})"
                 else:
                     return self.result(Verdict.UNKNOWN, f"{why}, but the run rests on what the model leaves open "

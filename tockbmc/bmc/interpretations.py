@@ -25,7 +25,6 @@ import z3
 
 from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
-from tockbmc.encodings.terms import subterms
 from tockbmc.encodings.unroller import Unroller, int_value
 from tockbmc.encodings.values import UPDATE_OUTSIDE, leaves
 
@@ -46,20 +45,7 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
     parameters is a constant in Z3, known by `functions`), else the kind of value. A division counts
     unless `facts` (the constants' values) rule out a zero divisor (`PI / av` with av = 2)."""
     out: dict[str, None] = {}
-    terms, facts = list(terms), list(facts)
-    # Z3's `nth` outside a quantifier: the model's own reads of an item (and head, last); inside
-    # one, the domain constraints read items within the length only (a model's quantified read
-    # outside it is missed).
-    unquantified: set[int] = set()
-    stack = list(terms)
-    while stack:
-        t = stack.pop()
-        if t.get_id() in unquantified or z3.is_quantifier(t):
-            continue
-        unquantified.add(t.get_id())
-        if z3.is_app(t) and t.decl().kind() == z3.Z3_OP_SEQ_NTH:
-            out["a sequence's item outside its length"] = None
-        stack += t.children()
+    facts = list(facts)
 
     def may_be_zero(divisor: z3.ExprRef) -> bool:
         if _nonzero_numeral(divisor):
@@ -70,23 +56,37 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
         solver.add(divisor == 0)  # type: ignore[arg-type]
         return solver.check() != z3.unsat
 
-    for term in terms:
-        for t in subterms(term):
-            if not z3.is_app(t):
-                continue
-            decl = t.decl()
-            kind, name = decl.kind(), decl.name()
-            if kind == z3.Z3_OP_UNINTERPRETED and (decl.arity() > 0 or name.removesuffix(".outside") in functions):
-                if name.startswith("lambda!"):
-                    out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
-                elif name == UPDATE_OUTSIDE:
-                    out["a sequence updated outside its length"] = None
-                elif name.startswith("toolkit."):
-                    out[f"{name[8:]} of a set without one"] = None
-                else:
-                    out[name.removesuffix(".outside")] = None
-            elif kind in _DIVISIONS and "a division by zero" not in out and may_be_zero(t.arg(1)):
-                out["a division by zero"] = None
+    # Each subterm once, with whether it is inside a quantifier: Z3's `nth` counts outside one only
+    # (the model's own reads of an item, and head, last); inside one, the domain constraints read
+    # items within the length (a model's quantified read outside it is missed).
+    seen: set[tuple[int, bool]] = set()
+    stack = [(t, False) for t in terms]
+    while stack:
+        t, quantified = stack.pop()
+        if (t.get_id(), quantified) in seen:
+            continue
+        seen.add((t.get_id(), quantified))
+        if z3.is_quantifier(t):
+            stack.append((t.body(), True))
+            continue
+        stack += [(c, quantified) for c in t.children()]
+        if not z3.is_app(t):
+            continue
+        decl = t.decl()
+        kind, name = decl.kind(), decl.name()
+        if kind == z3.Z3_OP_SEQ_NTH and not quantified:
+            out["a sequence's item outside its length"] = None
+        elif kind == z3.Z3_OP_UNINTERPRETED and (decl.arity() > 0 or name.removesuffix(".outside") in functions):
+            if name.startswith("lambda!"):
+                out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
+            elif name == UPDATE_OUTSIDE:
+                out["a sequence updated outside its length"] = None
+            elif name.startswith("toolkit."):
+                out[f"{name[8:]} of a set without one"] = None
+            else:
+                out[name.removesuffix(".outside")] = None
+        elif kind in _DIVISIONS and "a division by zero" not in out and may_be_zero(t.arg(1)):
+            out["a division by zero"] = None
     return list(out)
 
 
@@ -111,7 +111,7 @@ def every_interpretation(u: Unroller, model: z3.ModelRef, depth: int, target: z3
     answer within `seconds` (at most 5)."""
     s = u.system
     known = frozenset(functions)
-    if s.extensions or start_unspecified(s, known):
+    if s.extensions or start_unspecified(s, known) or _found([target], known):
         return False
     moves = {m.index: m for m in s.moves}
     frame = {n: model.eval(u.frame(0)[n], model_completion=True) for n in s.sorts}
@@ -138,8 +138,6 @@ def every_interpretation(u: Unroller, model: z3.ModelRef, depth: int, target: z3
         frame = {n: z3.substitute(eff.post[n], *pairs) if n in eff.post else frame[n] for n in s.sorts}
         frame[names.PREVIOUS] = z3.IntVal(m.index)
     holds.append(z3.substitute(target, *[(s.cur[n], frame[n]) for n in s.sorts]))
-    if _found([target], known):
-        return False
     solver = z3.Solver()
     solver.set(timeout=max(1, int(1000 * min(_MOST_SECONDS, seconds if seconds is not None else _MOST_SECONDS))))
     solver.add(assumed)

@@ -202,13 +202,14 @@ class TransitionSystem:
             return {fd: self.value(f"{base}.{fd}", ft, after) for fd, ft in parts(t)}
         return f[base]
 
-    def evaluator(self, c: int, extra: dict[int, Value] | None = None) -> Evaluator:
+    def evaluator(self, c: int, extra: dict[int, Value] | None = None,
+                  guards: list[z3.BoolRef] | None = None) -> Evaluator:
         env = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         if extra:
             env.update(extra)
         name = self.components[c].name
         clocks = {clock: self.cur[names.clock(name, clock)] for clock in self.components[c].automaton.clocks}
-        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges)
+        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges, guards)
 
     # ------------------------------------------------------------ event labels (CSP's view)
 
@@ -437,8 +438,7 @@ class TransitionSystem:
         bound: dict[int, Value] = {}
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
-        ev = self.evaluator(c, bound)
-        ev.guards = enabled
+        ev = self.evaluator(c, bound, guards=enabled)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
         enabled += [ev.scalar(g) for g in e.guard]
@@ -451,9 +451,7 @@ class TransitionSystem:
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
         for a in e.updates:
-            update = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges)
-            update.guards = enabled
-            new = update.value(a.value)
+            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled).value(a.value)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)

@@ -285,7 +285,8 @@ class Evaluator:
     """Translates typed model expressions into Z3 terms over an environment."""
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
-                 clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None):
+                 clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
+                 guards: list[z3.BoolRef] | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
@@ -294,15 +295,15 @@ class Evaluator:
         # Where a step's own conditions go (set by the step that evaluates): that a function value
         # applied here gives a value of its result type concerns this step only, not every step
         # (a lambda's result reads the configuration). None: with the functions' axioms.
-        self.guards: list[z3.BoolRef] | None = None
+        self.guards = guards
 
     def _inner(self, env: dict[int, Value], constants: dict[int, Value] | None = None,
                side: list[z3.BoolRef] | None = None) -> Evaluator:
-        """An evaluator for a nested scope (a `let`, a quantifier, a function's body)."""
-        inner = type(self)(env, self.constants if constants is None else constants,
-                           self.side if side is None else side, self.clocks, self.ranges)
-        inner.guards = self.guards if side is None else None  # a quantifier's scope keeps its own
-        return inner
+        """An evaluator for a nested scope (a `let`, a quantifier, a function's body); a scope
+        with a side of its own (a quantifier's) keeps its conditions there too."""
+        return type(self)(env, self.constants if constants is None else constants,
+                          self.side if side is None else side, self.clocks, self.ranges,
+                          self.guards if side is None else None)
 
     def value(self, e: ast.Expr) -> Value:
         """The Z3 value of `e`: operands first, from an explicit stack (expressions may nest
