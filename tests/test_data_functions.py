@@ -392,3 +392,40 @@ stm M {
     bmc, explicit = both_engines(load(tmp_path), ranges, 10, timeout=30)
     for results in (bmc, explicit):
         assert {r.assertion: r.verdict for r in results} == {"D": "violated", "R": "holds"}
+
+
+@pytest.mark.parametrize("where", [
+    "condition y > 10 /\\ (forall z : nat | z < 2 @ f(z + y) >= 0)",
+    "condition y > 10 /\\ (exists z : nat | z < 2 @ f(z + y) == 0)",
+    "condition y > 10 action s2 = {z : nat | z < 2 @ f(z + y)}",
+    "condition y > 10 action s2 = {z : nat | z < 2 /\\ f(z + y) > 0}",
+    "condition y > 10 action n = g(f, y + 1)",
+    "condition y > 10 action out!f(y + 1)",
+])
+def test_a_function_value_applied_in_a_nested_scope_binds_only_its_step(tmp_path: Path, where: str) -> None:
+    """The same, applied inside a quantifier, a set comprehension, a function's body or an
+    output's value: BMC had still asserted the result's type at every step there (session 15's
+    known difference, docs/semantics.md §10); it is now a condition of the step that evaluates it,
+    for every value of the bound variables where the scope is evaluated."""
+    (tmp_path / "m.rct").write_text(f"""
+function g(h : nat -> nat, a : int) : nat {{ postcondition result == h(a) }}
+stm M {{
+  var f : nat -> nat = lambda x : nat @ x - 5
+  var y : int = 0
+  var n : nat = 0
+  var s2 : Set(nat)
+  event e
+  event out : nat
+  initial i
+  state s {{}}
+  state dead {{}}
+  state t {{}}
+  transition t0 {{ from i to s }}
+  transition t1 {{ from s to dead condition y == 0 }}
+  transition t2 {{ from s to t trigger e {where} }}
+}}
+""")
+    (tmp_path / "m.assertions").write_text("assertion D: M is deadlock-free.\nassertion R: dead is reachable in M.\n")
+    ranges = Ranges({"core_int": Range(Fraction(-3), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
+    bmc, _explicit = both_engines(load(tmp_path), ranges, 10, timeout=30)
+    assert {r.assertion: r.verdict for r in bmc} == {"D": "violated", "R": "holds"}

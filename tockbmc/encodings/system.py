@@ -249,7 +249,9 @@ class TransitionSystem:
         c, e = m.parts[0]
         if e.kind == "terminate":
             return []
-        ev = self.evaluator(c)
+        # The conditions these values put on the step (a function's result in its type) are the
+        # step's own, which `_edge` adds where it evaluates the same expressions.
+        ev = self.evaluator(c, guards=[])
         if e.kind == "call":
             if e.operation is not None and len(e.operation.parameters) == len(e.args):
                 # each argument in its parameter's type: `op(1)` and `op(x)` on a real parameter carry reals
@@ -447,6 +449,8 @@ class TransitionSystem:
         if e.ends_wait:
             enabled.append(f[names.wait(comp.name, e.thread)] == 0)
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
+        for a in e.args:  # a call's arguments are its label's values (`label_values`): their conditions
+            ev.value(a)
         # Updates in order, each reading the values the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
@@ -591,8 +595,14 @@ class TransitionSystem:
 
     def armed(self, c: int, td: TriggerDeadline) -> z3.BoolRef:
         """The source of a deadline transition is stable and its condition true."""
-        cond = self.evaluator(c).scalar(td.condition) if td.condition is not None else z3.BoolVal(True)
-        return z3.And(self.located(c, td.armed), cond)
+        located = self.located(c, td.armed)
+        if td.condition is None:
+            return located
+        guards: list[z3.BoolRef] = []
+        cond = self.evaluator(c, guards=guards).scalar(td.condition)
+        if guards:  # where the condition is evaluated: at the source
+            self.side.append(z3.Implies(located, z3.And(guards)))
+        return z3.And(located, cond)
 
     def located(self, c: int, locations: frozenset[int]) -> z3.BoolRef:
         """Component c is at one of `locations`."""
@@ -647,8 +657,12 @@ class TransitionSystem:
             cs.append(z3.Not(self.located(c, comp.automaton.urgent)))
             cs.append(z3.Implies(self.located(c, comp.automaton.deadlined), f[names.deadline(comp.name)] > 0))
             for td in comp.automaton.trigger_deadlines:
-                bound = self.evaluator(c).scalar(td.bound)
-                cs.append(z3.Not(z3.And(self.armed(c, td), f[names.armed(comp.name, td.transition)] >= bound)))
+                guards: list[z3.BoolRef] = []
+                bound = self.evaluator(c, guards=guards).scalar(td.bound)
+                armed = self.armed(c, td)
+                if guards:  # where the bound is evaluated: while armed
+                    self.side.append(z3.Implies(armed, z3.And(guards)))
+                cs.append(z3.Not(z3.And(armed, f[names.armed(comp.name, td.transition)] >= bound)))
         return z3.And(cs)
 
     # ------------------------------------------------------------ formulas

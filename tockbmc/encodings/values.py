@@ -286,7 +286,7 @@ class Evaluator:
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
                  clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
-                 guards: list[z3.BoolRef] | None = None):
+                 guards: list[z3.BoolRef] | None = None, arguments: frozenset[int] = frozenset()):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
@@ -296,14 +296,29 @@ class Evaluator:
         # applied here gives a value of its result type concerns this step only, not every step
         # (a lambda's result reads the configuration). None: with the functions' axioms.
         self.guards = guards
+        self.arguments = arguments  # the parameters of the function whose body this evaluates
 
-    def _inner(self, env: dict[int, Value], constants: dict[int, Value] | None = None,
-               side: list[z3.BoolRef] | None = None) -> Evaluator:
-        """An evaluator for a nested scope (a `let`, a quantifier, a function's body); a scope
-        with a side of its own (a quantifier's) keeps its conditions there too."""
-        return type(self)(env, self.constants if constants is None else constants,
-                          self.side if side is None else side, self.clocks, self.ranges,
-                          self.guards if side is None else None)
+    def _inner(self, env: dict[int, Value]) -> Evaluator:
+        """An evaluator for a nested scope that is evaluated once, where this one is (a `let`)."""
+        return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards, self.arguments)
+
+    def _bound_scope(self, env: dict[int, Value]) -> tuple[Evaluator, list[z3.BoolRef], list[z3.BoolRef]]:
+        """An evaluator for a scope evaluated at every value of its bound variables (a
+        quantifier's, a lambda's, a comprehension's), with lists of its own for the functions'
+        axioms and for the step's conditions (`guards`) at those values, which the caller quantifies."""
+        side: list[z3.BoolRef] = []
+        guards: list[z3.BoolRef] = []
+        return type(self)(env, self.constants, side, self.clocks, self.ranges, guards, self.arguments), side, guards
+
+    def _lift(self, consts: list[z3.ExprRef], side: list[z3.BoolRef], guards: list[z3.BoolRef],
+              where: z3.BoolRef) -> None:
+        """A bound scope's axioms, for every value of its bound variables; its step conditions
+        for every value where it is evaluated (`where`: in the domain, the condition true), as
+        conditions of this evaluator's step (or with the axioms where there is no step)."""
+        self.side += [z3.ForAll(consts, c) for c in side]
+        if guards:
+            lifted = z3.ForAll(consts, z3.Implies(where, z3.And(guards)))
+            (self.side if self.guards is None else self.guards).append(lifted)
 
     def value(self, e: ast.Expr) -> Value:
         """The Z3 value of `e`: operands first, from an explicit stack (expressions may nest
@@ -400,10 +415,13 @@ class Evaluator:
             f, *args = operands
             assert isinstance(e.function.type, ast.FunctionType) and not isinstance(f, dict)
             result = unpack(f[_argument(e.function.type, args)], e.type)
-            # A result is a value of its type. Of a function nobody set (a variable without an
-            # initial value: any function) that is what the environment chose, at every step; of
-            # one the model made (a lambda), a condition of the step that applies it.
-            chosen = isinstance(e.function, ast.VarRef) and e.function.variable.initial is None
+            # A result is a value of its type. Of a function nobody set (a variable, constant or
+            # operation's parameter without an initial value: any function) that is what the
+            # environment chose, at every step; of one the model made (a lambda, an argument of a
+            # function, a `let`), a condition of the step that applies it.
+            var = e.function.variable if isinstance(e.function, ast.VarRef) else None
+            chosen = (var is not None and var.initial is None and var.kind not in ("bound", "let")
+                      and id(var) not in self.arguments)
             where = self.side if chosen or self.guards is None else self.guards
             where.extend(domain(result, e.type, Ranges(), "result"))
             return result
@@ -420,7 +438,7 @@ class Evaluator:
             raise Unsupported(e.pos, ast.unchecked_function(f))
         if f.definition is not None:
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side,
-                              ranges=self.ranges)
+                              ranges=self.ranges, guards=self.guards, arguments=frozenset(id(p) for p in f.parameters))
             defined = inner.value(f.definition)
             if not f.preconditions:
                 return defined
@@ -479,12 +497,14 @@ class Evaluator:
             point = unpack(x, t.domain)
             assert isinstance(point, dict)
             values = {id(v): point[str(i)] for i, v in enumerate(e.variables, 1)}
-        side: list[z3.BoolRef] = []
-        inner = self._inner({**self.env, **values}, side=side)
+        inner, side, guards = self._bound_scope({**self.env, **values})
         body = pack(inner.value(e.body), t.range)
         if e.condition is not None:
             outside = z3.Function(f"lambda!{e.pos.line}:{e.pos.column}.outside", x.sort(), sort_of(t.range))
             body = z3.If(inner.scalar(e.condition), body, outside(x))
+        if guards:
+            # They would concern the steps that apply this lambda, which its value cannot carry.
+            raise Unsupported(e.pos, "a function value applied in a lambda's body is not encoded yet")
         self.side += [z3.ForAll([x], c) for c in side]
         return z3.Lambda([x], body)
 
@@ -493,17 +513,18 @@ class Evaluator:
         (a lambda); with one, the values `y` for which some such `x` gives `t == y` (a lambda over
         an existential, which Z3 may answer `unknown` on)."""
         consts, values = self._bound(e.variables, e.pos)
-        side: list[z3.BoolRef] = []
-        inner = self._inner({**self.env, **values}, side=side)
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
+        inner, side, guards = self._bound_scope({**self.env, **values})
         cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        self.side += [z3.ForAll(consts, c) for c in side]
+        self._lift(consts, side, guards, z3.And(*dom))
         guard = z3.And(*dom, cond)
         assert isinstance(e.type, ast.SetType)
         if e.term is None:
             return z3.Lambda(consts, guard)
         y = z3.Const(f"member!{e.pos.line}:{e.pos.column}", sort_of(e.type.element))
+        inner, side, guards = self._bound_scope({**self.env, **values})
         term = pack(inner.value(e.term), e.type.element)
+        self._lift(consts, side, guards, guard)
         return z3.Lambda([y], z3.Exists(consts, z3.And(guard, _coerce_eq(term, y))))
 
     def _quantifier(self, e: ast.Quantifier) -> z3.BoolRef:
@@ -513,12 +534,13 @@ class Evaluator:
         every value of the bound variables, so they are quantified too."""
         consts, values = self._bound(e.variables, e.pos)
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
-        side: list[z3.BoolRef] = []
-        inner = self._inner({**self.env, **values}, side=side)
+        inner, side, guards = self._bound_scope({**self.env, **values})
         cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        body = inner.scalar(e.body)
-        self.side += [z3.ForAll(consts, c) for c in side]
+        self._lift(consts, side, guards, z3.And(*dom))
         guard = z3.And(*dom, cond)
+        inner, side, guards = self._bound_scope({**self.env, **values})
+        body = inner.scalar(e.body)
+        self._lift(consts, side, guards, guard)
         if e.kind == "forall":
             return z3.ForAll(consts, z3.Implies(guard, body))
         found = z3.Exists(consts, z3.And(guard, body))
