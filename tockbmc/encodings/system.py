@@ -449,8 +449,8 @@ class TransitionSystem:
         if e.ends_wait:
             enabled.append(f[names.wait(comp.name, e.thread)] == 0)
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
-        for a in e.args:  # a call's arguments are its label's values (`label_values`): their conditions
-            ev.value(a)
+        for arg in e.args:  # a call's arguments are its label's values (`label_values`): their conditions
+            ev.value(arg)
         # Updates in order, each reading the values the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
