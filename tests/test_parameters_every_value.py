@@ -231,6 +231,15 @@ stm Q {
   transition t1 { from a to yes condition x == 7 }
   transition t2 { from a to no condition 7 / z == 3 }
 }
+stm E {
+  var s : Seq(nat) = <>
+  var b : boolean = exists i : nat | i <= 2 @ s[i] == 7
+  initial i
+  state a {}
+  state yes {}
+  transition t0 { from i to a }
+  transition t1 { from a to yes condition b }
+}
 """
 
 
@@ -238,17 +247,21 @@ def test_a_witness_resting_on_any_value_the_model_leaves_open_gives_no_verdict(t
     """Review, session 15: each said `holds`. A's initial value calls g, which has no parameters (a
     Z3 constant); B's constant rests on k1 (the replay took its value from the run); L applies a
     lambda outside its condition, Q reads an item past a sequence's end and divides by zero: any
-    value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value."""
+    value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value.
+    E's initial value reads past the sequence's end inside a quantifier (the scan missed it, and the
+    replay took the start from the run: `holds`, session 16)."""
     write_files(tmp_path, {"m.rct": OPEN, "m.assertions": "".join(
         f"assertion {n}: {st} is reachable in {m}.\n" for n, st, m in
-        (("A1", "yes", "A"), ("B1", "yes", "B"), ("L1", "yes", "L"), ("Q1", "yes", "Q"), ("Q2", "no", "Q")))})
+        (("A1", "yes", "A"), ("B1", "yes", "B"), ("L1", "yes", "L"), ("Q1", "yes", "Q"), ("Q2", "no", "Q"),
+         ("E1", "yes", "E")))})
     results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
-    assert {n: r.verdict for n, r in results.items()} == {n: "unknown" for n in ("A1", "B1", "L1", "Q1", "Q2")}, \
+    assert {n: r.verdict for n, r in results.items()} == {n: "unknown" for n in ("A1", "B1", "L1", "Q1", "Q2", "E1")}, \
         {n: r.reason for n, r in results.items()}
     assert "(g)" in (results["A1"].reason or "") and "(k1)" in (results["B1"].reason or "")
     assert "a lambda outside its condition" in (results["L1"].reason or "")
     assert "a sequence's item outside its length" in (results["Q1"].reason or "")
     assert "a division by zero" in (results["Q2"].reason or "")
+    assert "a sequence's item outside its length" in (results["E1"].reason or "")
 
 
 OPEN_VALUES = Path(__file__).parent / "models" / "open_values"

@@ -56,9 +56,10 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
         solver.add(divisor == 0)  # type: ignore[arg-type]
         return solver.check() != z3.unsat
 
-    # Each subterm once, with whether it is inside a quantifier: Z3's `nth` counts outside one only
-    # (the model's own reads of an item, and head, last); inside one, the domain constraints read
-    # items within the length (a model's quantified read outside it is missed).
+    # Each subterm once, with whether it is inside a quantifier: Z3's `nth` counts (the model's own
+    # reads of an item, `s[i - 1]`, and head, last) but inside a quantifier at a bound variable
+    # itself, which only the domain constraints read (`values._container_domain`: items within the
+    # length).
     seen: set[tuple[int, bool]] = set()
     stack = [(t, False) for t in terms]
     while stack:
@@ -74,7 +75,7 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
             continue
         decl = t.decl()
         kind, name = decl.kind(), decl.name()
-        if kind == z3.Z3_OP_SEQ_NTH and not quantified:
+        if kind == z3.Z3_OP_SEQ_NTH and not (quantified and z3.is_var(t.arg(1))):
             out["a sequence's item outside its length"] = None
         elif kind == z3.Z3_OP_UNINTERPRETED and (decl.arity() > 0 or name.removesuffix(".outside") in functions):
             if name.startswith("lambda!"):
