@@ -76,3 +76,16 @@ def test_a_timelock_is_not_a_timed_deadlock() -> None:
     for results in (check(project, bound=10), check_explicit(project, None, 8, None, {}, 20, 10_000)):
         verdicts = {r.assertion: r.verdict for r in results}
         assert verdicts == {"D1": Verdict.HOLDS, "D2": Verdict.VIOLATED, "T1": Verdict.VIOLATED}
+
+
+def test_a_replay_that_gives_up_reports_the_trace_not_replayed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The interpreter looks for the lasso's cycle among at most `LIMIT` configurations; past that
+    (as on a model with many internal configurations) it had raised `ReplayFailure`, an internal
+    error. The counterexample is now shown with `replayed: no: …`, as where the interpreter cannot
+    run the model."""
+    from tockbmc.explicit import replay
+
+    monkeypatch.setattr(replay, "LIMIT", 1)
+    [s1] = [r for r in check(tockbmc.load(MODELS), bound=20) if r.assertion == "S1"]
+    assert s1.verdict == Verdict.VIOLATED
+    assert str(s1.extra["replayed"]).startswith("no: ") and "1 configurations" in str(s1.extra["replayed"])

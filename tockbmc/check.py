@@ -566,14 +566,18 @@ def replay_pair(q: Query, trace: tuple, other: tuple, choices: dict[str, object]
 
 def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Callable[[Interpreter], None]) -> str:
     """Run `follow` with an interpreter of the query's element: "yes", or "no: why" when the
-    interpreter cannot run the model; `ReplayFailure` passes through."""
+    interpreter cannot run the model or gave up following the trace (`ReplayGaveUp`: a bound on
+    the configurations it explores); `ReplayFailure`, where it could not follow it, passes through."""
     from tockbmc.explicit.engine import python_settings, ranges_dict
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
+    from tockbmc.explicit.replay import ReplayGaveUp
 
     try:
         follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed))
     except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
+    except ReplayGaveUp as exc:
+        return f"no: {exc}"
     return "yes"
 
 

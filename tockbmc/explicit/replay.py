@@ -31,7 +31,12 @@ class ReplayFailure(Exception):
 
     def __reduce__(self) -> tuple[type[ReplayFailure], tuple[int, str, str]]:
         """Rebuilt from its parts (a worker process of `check -j` raises it in the parent)."""
-        return ReplayFailure, (self.step, self.bmc, self.interpreter)
+        return type(self), (self.step, self.bmc, self.interpreter)
+
+
+class ReplayGaveUp(ReplayFailure):
+    """The interpreter did not follow a BMC trace within `LIMIT` configurations: not a disagreement
+    of the engines, but no confirmation either (the check reports the trace as not replayed)."""
 
 
 class _Inputs(Mapping[tuple, tuple]):
@@ -109,11 +114,12 @@ def replay_watched(interp: Interpreter, trace: tuple[TraceStep, ...], choices: d
                 seen.add(nxt)
                 todo.append(nxt)
     short = f" (the replay gave up after {LIMIT:,} configurations)" if gave_up else ""
+    failure = ReplayGaveUp if gave_up else ReplayFailure
     if best < len(visible):
         step = visible[best]
-        raise ReplayFailure(step.step, f"{step.event}", (", ".join(sorted(offered)[:8]) or "nothing") + short)
-    raise ReplayFailure(visible[-1].step if visible else 0, "the end of its trace, where the assertion fails",
-                        "every step of the trace, but the assertion does not fail where it ends" + short)
+        raise failure(step.step, f"{step.event}", (", ".join(sorted(offered)[:8]) or "nothing") + short)
+    raise failure(visible[-1].step if visible else 0, "the end of its trace, where the assertion fails",
+                  "every step of the trace, but the assertion does not fail where it ends" + short)
 
 
 _OUTSIDE = ("before the model starts", "after the model terminates")
@@ -123,7 +129,7 @@ def can_diverge(interp: Interpreter, config: Config, context: Context | None = N
     """Whether internal steps alone (hidden events included) lead from `config` into a cycle: the
     end of a divergence BMC shows as a lasso (the engines cut internal work into steps
     differently, so the cycle is looked for afresh, not matched step by step).  Raises
-    `ReplayFailure` when no cycle is found among the first `LIMIT` configurations."""
+    `ReplayGaveUp` when no cycle is found among the first `LIMIT` configurations."""
     def internal(c: Config) -> list[Config]:
         return [s.target for s in interp.steps(c)
                 if s.kind == "internal" or (s.kind == "event" and _status(context, s) == "hidden")]
@@ -142,7 +148,7 @@ def can_diverge(interp: Interpreter, config: Config, context: Context | None = N
             return True
         elif nxt not in done:
             if len(done) + len(on_path) >= LIMIT:
-                raise ReplayFailure(0, "a divergence", f"no cycle of internal steps among {LIMIT:,} configurations")
+                raise ReplayGaveUp(0, "a divergence", f"no cycle of internal steps among {LIMIT:,} configurations")
             on_path.add(nxt)
             stack.append((nxt, iter(internal(nxt))))
     return False
