@@ -153,6 +153,12 @@ def test_conditions_read_as_the_model_names_them() -> None:
     assert condition_text([[r < hi - z3.RealVal("1/2")], [lo == 2]], names, {"lo", "hi"}) == \
         "limit < core_int.high - 0.5 or core_int.low = 2"
     assert condition_text([], names, set()) == "false" and condition_text([[]], names, set()) == "true"
+    # what is not one comparison (a disjunction inside a cube, a product): the model's names, not Z3's
+    assert condition_text([[lo > -5, z3.Or(hi == 1, z3.Not(r * r <= 2))]], names, {"lo", "hi"}) == \
+        "core_int.low ≥ -4 and (core_int.high = 1 or limit · limit > 2)"
+    assert condition_text([[z3.Not(z3.And(lo - (hi - 1) == 2 * (lo + 1), z3.Implies(lo > 0, hi % 2 == 0)))]], names,
+                          set()) == "not (core_int.low - (core_int.high - 1) = 2 · (core_int.low + 1) and " \
+                                    "(core_int.low > 0 ⇒ core_int.high mod 2 = 0))"
 
 
 def test_a_computation_cut_short_says_so(project: tockbmc.Project) -> None:

@@ -303,7 +303,7 @@ def _cube_text(cube: Sequence[z3.BoolRef], names: dict[str, str], integers: set[
     for lit in cube:
         parsed = literal(lit)
         if parsed is None:
-            others.append(str(lit))
+            others.append(term_text(lit, names, _BINDS[z3.Z3_OP_AND]))
             continue
         coeffs, op, const = parsed
         if len(coeffs) == 1:
@@ -376,3 +376,51 @@ def _relation_text(coeffs: dict[str, Fraction], op: str, const: Fraction, names:
     elif const:
         right += f" - {real_text(-const)}" if const < 0 else f" + {real_text(const)}"
     return f"{left} {_SHOW[op]} {right}"
+
+
+_INFIX = {z3.Z3_OP_LE: "≤", z3.Z3_OP_LT: "<", z3.Z3_OP_GE: "≥", z3.Z3_OP_GT: ">", z3.Z3_OP_EQ: "=",
+          z3.Z3_OP_ADD: "+", z3.Z3_OP_SUB: "-", z3.Z3_OP_MUL: "·", z3.Z3_OP_DIV: "/", z3.Z3_OP_IDIV: "div",
+          z3.Z3_OP_MOD: "mod", z3.Z3_OP_AND: "and", z3.Z3_OP_OR: "or", z3.Z3_OP_IMPLIES: "⇒"}
+# How tightly each operator binds: an operand binding less tightly than its operator is parenthesised.
+_BINDS = {z3.Z3_OP_IMPLIES: 0, z3.Z3_OP_OR: 1, z3.Z3_OP_AND: 2, z3.Z3_OP_NOT: 3,
+          z3.Z3_OP_LE: 4, z3.Z3_OP_LT: 4, z3.Z3_OP_GE: 4, z3.Z3_OP_GT: 4, z3.Z3_OP_EQ: 4,
+          z3.Z3_OP_ADD: 5, z3.Z3_OP_SUB: 5, z3.Z3_OP_MUL: 6, z3.Z3_OP_DIV: 6, z3.Z3_OP_IDIV: 6, z3.Z3_OP_MOD: 6,
+          z3.Z3_OP_UMINUS: 7}
+_NEGATED = {z3.Z3_OP_LE: ">", z3.Z3_OP_LT: "≥", z3.Z3_OP_GE: "<", z3.Z3_OP_GT: "≤", z3.Z3_OP_EQ: "≠"}
+
+
+def term_text(t: z3.ExprRef, names: dict[str, str], context: int = -1) -> str:
+    """Any other condition as text in the model's names (a disjunction inside a cube, a product of
+    two symbols): the logical and arithmetic operators spelt out, a negated comparison turned
+    round, parentheses only where an operand binds less tightly than its operator (`context`: how
+    tightly the enclosing operator binds). What has no spelling here keeps Z3's."""
+    if z3.is_int_value(t) or z3.is_rational_value(t):
+        return real_text(Fraction(t.as_fraction()) if z3.is_rational_value(t) else Fraction(t.as_long()))  # type: ignore[attr-defined]
+    if z3.is_true(t) or z3.is_false(t):
+        return "true" if z3.is_true(t) else "false"
+    if not z3.is_app(t):
+        return str(t)
+    kind = t.decl().kind()
+    if z3.is_const(t) and kind == z3.Z3_OP_UNINTERPRETED:
+        return names.get(t.decl().name(), t.decl().name())
+    if kind == z3.Z3_OP_TO_REAL:
+        return term_text(t.arg(0), names, context)
+    if kind == z3.Z3_OP_NOT and t.arg(0).num_args() == 2 and t.arg(0).decl().kind() in _NEGATED:
+        inner = t.arg(0)
+        text = f"{term_text(inner.arg(0), names, 4)} {_NEGATED[inner.decl().kind()]} {term_text(inner.arg(1), names, 4)}"
+        kind = z3.Z3_OP_LE  # binds as a comparison
+    elif kind == z3.Z3_OP_NOT:
+        text = f"not {term_text(t.arg(0), names, 3)}"
+    elif kind == z3.Z3_OP_UMINUS:
+        text = f"-{term_text(t.arg(0), names, 7)}"
+    elif kind == z3.Z3_OP_ITE:
+        text = " ".join(f"{w} {term_text(x, names)}" for w, x in zip(("if", "then", "else"), t.children(), strict=True))
+        kind = z3.Z3_OP_IMPLIES  # parenthesised wherever it is an operand
+    elif kind in _INFIX and t.num_args() >= 2:
+        # the right operand of `-`, `/`, `div`, `mod` binds as if one level tighter (a - (b - c))
+        tight = [_BINDS[kind] + (i > 0 and kind in (z3.Z3_OP_SUB, z3.Z3_OP_DIV, z3.Z3_OP_IDIV, z3.Z3_OP_MOD))
+                 for i in range(t.num_args())]
+        text = f" {_INFIX[kind]} ".join(term_text(x, names, b) for x, b in zip(t.children(), tight, strict=True))
+    else:
+        return str(t)
+    return f"({text})" if _BINDS.get(kind, 8) < context or (_BINDS.get(kind, 8) == context and context == 4) else text
