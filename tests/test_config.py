@@ -399,7 +399,7 @@ def test_each_instance_of_a_machine_has_its_own_constants(tmp_path: Path, source
         out = run_cli(["check", str(tmp_path), "--engine", engine, "--format", "json"])
         [r] = json.loads(out.stdout)["results"]
         assert r["verdict"] == "holds", (engine, r)
-        assert (r["constants"]["stm_ref0::CC"], r["constants"]["stm_ref1::CC"]) == ("Value::VB", "Value::VC")
+        assert (r["constants"]["ctrl0::stm_ref0::CC"], r["constants"]["ctrl0::stm_ref1::CC"]) == ("Value::VB", "Value::VC")
         assert "I::CC" not in r["constants"], r["constants"]  # every instance has its own: not shown
 
 
@@ -453,7 +453,7 @@ def test_open_constants_of_two_instances_are_two_parameters(tmp_path: Path) -> N
         [r] = json.loads(out.stdout)["results"]
         assert r["verdict"] == "violated" and (engine == "explicit" or r["replayed"] == "yes"), (engine, r)
     out = run_cli(["explore", str(tmp_path), "--range", "core_int=0..1", "--format", "json"])
-    assert "stm_ref0::CC" in out.stdout and "stm_ref1::CC" in out.stdout, out.output
+    assert "ctrl0::stm_ref0::CC" in out.stdout and "ctrl0::stm_ref1::CC" in out.stdout, out.output
 
 
 def test_a_negative_constant_reaches_the_explicit_engine(tmp_path: Path) -> None:
@@ -467,3 +467,24 @@ def test_a_negative_constant_reaches_the_explicit_engine(tmp_path: Path) -> None
         out = run_cli(["check", str(tmp_path), "--engine", engine, "--range", "core_int=-1..1", "--format", "json"])
         [r] = json.loads(out.stdout)["results"]
         assert r["verdict"] == "holds", (engine, r)
+
+
+def test_a_value_set_through_an_instance_path_is_that_instances_alone(tmp_path: Path) -> None:
+    """`explore` names each instance's open constant by its path (`ctrl0::stm_ref0::CC`, as in
+    `test_open_constants_of_two_instances_are_two_parameters`); `--set` refused that name, or (`C::m1::k`) gave every instance the value. It now sets that instance's
+    constant alone, in both engines; `--param` on such a name is a usage error, with the
+    declaration's name to use."""
+    write_files(tmp_path, {"m.rct": TWO_INSTANCES, "m.assertions": SPEC + "untimed assertion A: ctrl0 equals Spec.\n"})
+    for engine in ("bmc", "explicit"):
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--format", "json",
+                       "--set", "ctrl0::stm_ref0::CC=Value::VB", "--set", "ctrl0::stm_ref1::CC=Value::VC"])
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "holds", (engine, r)
+        assert (r["constants"]["ctrl0::stm_ref0::CC"], r["constants"]["ctrl0::stm_ref1::CC"]) == ("Value::VB", "Value::VC")
+        # one instance set: the other keeps the declaration's value (RoboTool's default, the first literal)
+        out = run_cli(["check", str(tmp_path), "--engine", engine, "--format", "json",
+                       "--set", "ctrl0::stm_ref0::CC=Value::VB"])
+        [r] = json.loads(out.stdout)["results"]
+        assert r["verdict"] == "violated" and r["constants"]["ctrl0::stm_ref0::CC"] == "Value::VB", (engine, r)
+    out = run_cli(["explore", str(tmp_path), "--param", "ctrl0::stm_ref0::CC"])
+    assert out.exit_code == 2 and "name it by its declaration" in out.output, out.output

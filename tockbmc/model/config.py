@@ -325,17 +325,36 @@ def instance_key(instance: tuple[str, ...], v: ast.Variable) -> str:
     return f"{'::'.join(instance)}/{declaration_key(v)}"
 
 
-def instance_name(instance: tuple[str, ...], v: ast.Variable) -> str:
-    """How results name one instance's constant: `stm_ref0::CC`."""
-    return f"{'::'.join(instance)}::{v.name}"
+def instance_name(element: str, instance: tuple[str, ...], v: ast.Variable) -> str:
+    """How results name one instance's constant, from the checked element's short name:
+    `ctrl0::stm_ref0::CC`, which `--set` and `with constant CC of ctrl0::stm_ref0` accept."""
+    return f"{element.rsplit('::', 1)[-1]}::{'::'.join(instance)}::{v.name}"
 
 
-def _instances_named(setting: ast.ConstantSetting, element: Checked, slots: list[_Slot]) -> list[_Slot]:
-    """The constants `with constant c of P` sets when P is an instance path inside the checked
-    element (`ctrl0::stm_ref0` for controller `ctrl0`), one instance's constant each."""
-    heads = {element.qname, element.qname.rsplit("::", 1)[-1]}
-    return [s for s in slots if s.instance and s.variable.name == setting.constant and s.variable.initial is None
-            and any(setting.element == f"{h}::{'::'.join(s.instance)}" for h in heads)]
+def instance_paths(element: Checked, instance: tuple[str, ...]) -> set[str]:
+    """Every name of an instance path inside `element`: from the element (`Mod::c::m1`), or from
+    any element on the way (`C::m1` for the machine m1 of controller C, instantiated as c)."""
+    out: set[str] = set()
+    e: object = element
+    for k, step in enumerate(instance):
+        if isinstance(e, (ast.StateMachine, ast.Controller, ast.Module, ast.OperationDef)):
+            rest = "::".join(instance[k:])
+            out |= {f"{e.qname}::{rest}", f"{e.qname.rsplit('::', 1)[-1]}::{rest}"}
+        if isinstance(e, ast.Module):
+            e = next((ci.controller for ci in e.controllers if ci.name == step), None)
+        elif isinstance(e, ast.Controller):
+            e = next((mi.machine for mi in e.machines if mi.name == step), None)
+        else:
+            break
+    return out
+
+
+def _instances_named(head: str, constant: str, element: Checked, slots: list[_Slot]) -> list[_Slot]:
+    """The constants named `constant` that an instance path `head` inside the checked element names
+    (`ctrl0::stm_ref0` for controller `ctrl0`, in `with constant c of P` or `--set P::c`), one
+    instance's constant each."""
+    return [s for s in slots if s.instance and s.variable.name == constant and s.variable.initial is None
+            and head in instance_paths(element, s.instance)]
 
 
 def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
@@ -428,6 +447,15 @@ class Names:
             options = ", ".join(sorted(declaration_key(v) for v in found))
             raise ConfigError(f"'{name}' is ambiguous: it names {options}; qualify it", option)
         return found
+
+    def instance_path(self, name: str) -> str | None:
+        """The instance path a constant's name goes through (`ctrl0::stm_ref0` in
+        `ctrl0::stm_ref0::CC`), or None when it names the declaration (`STM::CC`, `CC`)."""
+        head = name.rpartition("::")[0]
+        elements = self.elements.get(head, [])
+        if not head or not elements or any(head in (e.qname, e.qname.rsplit("::", 1)[-1]) for e in elements):
+            return None
+        return head
 
     def _suggest(self, name: str) -> str:
         return suggestion(name, [p for p, _ in self.all_constants] + [v.name for _, v in self.all_constants])
@@ -603,20 +631,30 @@ class Configuration:
             if r is not None:
                 check_range(name, t, r)
             self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
+        # one instance's constant (`ctrl0::stm_ref0::CC`), by the name given: (instance path, constant,
+        # its declaration's key, value)
+        self._instance_flags: dict[str, tuple[str, str, str, _ConstEntry]] = {}
         named_by: dict[str, str] = {}  # declaration -> the --set name that gave it a value
         for name, given in (settings or {}).items():
             for v in self.names.constant(name, "--set"):
                 value = _value_of_text(given, v.type, name) if isinstance(given, str) else given
                 if not isinstance(given, str) and not ast.assignable(v.type, value.type):
                     raise ConfigError(f"{name} is {v.type}: the value given is {value.type}")
+                head = self.names.instance_path(name)
+                if head is not None and v.initial is None:
+                    self._instance_flags[name] = (head, v.name, declaration_key(v), _ConstEntry(value, FLAG_SET))
+                    continue
                 key = declaration_key(v)
-                if key in named_by:  # `C::m1::k` and `C::m2::k` both name the declaration: not two instances
-                    raise ConfigError(f"{named_by[key]} and {name} both name constant {key}, whose every instance "
-                                      "--set gives one value; one instance's own value: `with constant … of "
-                                      "ctrl::stm_ref` or the instantiation")
+                if key in named_by:
+                    raise ConfigError(f"{named_by[key]} and {name} both name constant {key}")
                 named_by[key] = name
                 self._flags[key] = _ConstEntry(value, FLAG_SET)
         for name in params:
+            if self.names.instance_path(name) is not None:
+                found = self.names.constant(name, "--param")
+                raise ConfigError(f"{name} names one instance's constant, and --param makes a declaration's constant "
+                                  "a parameter, each instance's its own: name it by its declaration "
+                                  f"({', '.join(declaration_key(v) for v in found)})", "--param")
             for v in self.names.constant(name, "--param"):
                 key = declaration_key(v)
                 if key in self._flags:
@@ -666,6 +704,7 @@ class Configuration:
         for key, entry in self._flags.items():
             if key in declared:
                 entries[key] = entry
+        self._instance_flags_alone(element, slots, entries)
         for name, value in csp_arguments:
             for key, v in declared.items():
                 if v.name == name:
@@ -673,7 +712,7 @@ class Configuration:
         for setting in a.settings if a is not None else ():
             if setting.kind == "parameter" and not isinstance(element, ast.OperationMachine):
                 continue  # an operation's parameter is its caller's argument unless the operation is checked alone
-            if _instances_named(setting, element, slots):
+            if _instances_named(setting.element, setting.constant, element, slots):
                 continue  # one instance's value: `_per_instance`
             for key in self._with_constant(setting, declared):
                 entries[key] = _ConstEntry(setting.value, Source("with constant", _at(setting.pos)))
@@ -691,7 +730,7 @@ class Configuration:
         for (path, key), entry in per_instance.items():
             assert entry.value is not None
             constants[instance_key(path, declared[key])] = entry.value
-            shown = instance_name(path, declared[key])
+            shown = instance_name(element.qname, path, declared[key])
             described[shown] = describe_value(entry.value)
             sources[shown] = str(entry.source)
         parameters = tuple(sorted(k for k, e in entries.items() if e.value is None and k in described))
@@ -701,8 +740,10 @@ class Configuration:
                       entries: dict[str, _ConstEntry]) -> dict[tuple[tuple[str, ...], str], _ConstEntry]:
         """Values that one instance of a machine gets and another of the same declaration need not:
         from the instantiation under the instance's own name (`const_test12_ctrl0_stm_ref0_CC`), and
-        from `with constant CC of ctrl0::stm_ref0`, which names the instance.  A value the command line
-        or a `D__` argument gives the declaration applies to every instance and wins."""
+        from `--set ctrl0::stm_ref0::CC=…` and from `with constant CC of ctrl0::stm_ref0`, which name
+        the instance, each stronger than the one before.  A value the command line or a `D__`
+        argument gives the declaration applies to every instance and wins over the instantiation's;
+        one the assertion gives it, over the command line's too."""
         out: dict[tuple[tuple[str, ...], str], _ConstEntry] = {}
         for s in slots:
             key = declaration_key(s.variable)
@@ -713,12 +754,38 @@ class Configuration:
                 if found is not None and ast.assignable(s.variable.type, found[0].type):
                     out[(s.instance, key)] = _ConstEntry(*found)
                     break
+        given_by: dict[tuple[tuple[str, ...], str], str] = {}
+        for name, (head, constant, key, entry) in self._instance_flags.items():  # `--set ctrl0::stm_ref0::CC=…`
+            if key in entries and _RANK.get(entries[key].source.what, 0) > _RANK[FLAG_SET.what]:
+                continue  # the assertion sets the declaration (`with constant`, a `D__` argument)
+            for s in _instances_named(head, constant, element, slots):
+                at = (s.instance, declaration_key(s.variable))
+                if at in given_by:
+                    raise ConfigError(f"{given_by[at]} and {name} both name the constant {constant} of one instance",
+                                      "--set")
+                given_by[at] = name
+                out[at] = entry
         for setting in a.settings if a is not None else ():
             if setting.kind == "constant":
-                for s in _instances_named(setting, element, slots):
+                for s in _instances_named(setting.element, setting.constant, element, slots):
                     out[(s.instance, declaration_key(s.variable))] = _ConstEntry(
                         setting.value, Source("with constant", _at(setting.pos)))
         return out
+
+    def _instance_flags_alone(self, element: Checked, slots: list[_Slot], entries: dict[str, _ConstEntry]) -> None:
+        """`--set ctrl0::stm_ref0::CC=…` where the element checked holds the declaration but not
+        through instances (the machine checked on its own): the instance's value is the
+        declaration's there."""
+        given_by: dict[str, str] = {}
+        for name, (head, constant, key, entry) in self._instance_flags.items():
+            if _instances_named(head, constant, element, slots) or \
+                    not any(not s.instance and declaration_key(s.variable) == key for s in slots):
+                continue
+            if key in given_by:
+                raise ConfigError(f"{given_by[key]} and {name} both name {key}, which {element.qname} holds once",
+                                  "--set")
+            given_by[key] = name
+            entries[key] = entry
 
     @staticmethod
     def _bind_required(slots: list[_Slot], declared: dict[str, ast.Variable], entries: dict[str, _ConstEntry]) -> None:
