@@ -429,3 +429,28 @@ stm M {{
     ranges = Ranges({"core_int": Range(Fraction(-3), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
     bmc, _explicit = both_engines(load(tmp_path), ranges, 10, timeout=30)
     assert {r.assertion: r.verdict for r in bmc} == {"D": "violated", "R": "holds"}
+
+
+@pytest.mark.parametrize(("condition", "reachable"), [
+    ("exists f : nat -> nat @ f(0) == 3", "holds"),
+    ("forall f : nat -> nat @ f(0) >= 0", "holds"),
+    ("forall f : nat -> nat @ f(0) == 0", "violated"),
+    ("exists f : nat -> nat @ f(0) < 0", "violated"),
+])
+def test_a_quantified_function_ranges_over_the_functions_into_its_type(tmp_path: Path, condition: str,
+                                                                       reachable: str) -> None:
+    """`exists f : nat -> nat @ f(0) == 3`: the result's type was asserted for every f (false in
+    Z3, whose arrays hold any integers) as an axiom or a condition of the step, so the transition
+    never fired (review, session 16). It is now assumed by the quantifier, as its domain is."""
+    (tmp_path / "m.rct").write_text(f"""
+stm M {{
+  initial i
+  state s {{}}
+  state good {{}}
+  transition t0 {{ from i to s }}
+  transition t1 {{ from s to good condition {condition} }}
+}}
+""")
+    (tmp_path / "m.assertions").write_text("assertion R: good is reachable in M.\n")
+    [r] = check(load(tmp_path), bound=5, timeout=30)
+    assert r.verdict == reachable, r.reason

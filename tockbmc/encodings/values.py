@@ -8,6 +8,8 @@ enumerations and given types are integers (enumeration literal i is i).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Union
 
@@ -281,12 +283,23 @@ def _const(x: Fraction, sort: z3.SortRef) -> z3.ExprRef:
     return z3.RealVal(f"{x.numerator}/{x.denominator}")
 
 
+@dataclass
+class _Scope:
+    """A bound scope's evaluator (`Evaluator._bound_scope`) and what it collects."""
+
+    ev: Evaluator
+    side: list[z3.BoolRef] = field(default_factory=list)  # the functions' axioms at its points
+    guards: list[z3.BoolRef] = field(default_factory=list)  # the step's conditions at its points
+    assumed: list[z3.BoolRef] = field(default_factory=list)  # its function-typed variables' results in type
+
+
 class Evaluator:
     """Translates typed model expressions into Z3 terms over an environment."""
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
                  clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
-                 guards: list[z3.BoolRef] | None = None, arguments: frozenset[int] = frozenset()):
+                 guards: list[z3.BoolRef] | None = None, arguments: frozenset[int] = frozenset(),
+                 quantified: frozenset[int] = frozenset(), assumed: list[z3.BoolRef] | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
@@ -297,27 +310,35 @@ class Evaluator:
         # (a lambda's result reads the configuration). None: with the functions' axioms.
         self.guards = guards
         self.arguments = arguments  # the parameters of the function whose body this evaluates
+        # Function-typed variables of the quantifiers and comprehensions this evaluates inside (any
+        # function into their type: where they are applied, the innermost one assumes the result
+        # is in its type, `assumed`, as it assumes its bound values are in their domain).
+        self.quantified = quantified
+        self.assumed = assumed
 
     def _inner(self, env: dict[int, Value]) -> Evaluator:
         """An evaluator for a nested scope that is evaluated once, where this one is (a `let`)."""
-        return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards, self.arguments)
+        return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards, self.arguments,
+                          self.quantified, self.assumed)
 
-    def _bound_scope(self, env: dict[int, Value]) -> tuple[Evaluator, list[z3.BoolRef], list[z3.BoolRef]]:
+    def _bound_scope(self, env: dict[int, Value], quantified: Iterable[ast.Variable] = ()) -> _Scope:
         """An evaluator for a scope evaluated at every value of its bound variables (a
-        quantifier's, a lambda's, a comprehension's), with lists of its own for the functions'
-        axioms and for the step's conditions (`guards`) at those values, which the caller quantifies."""
-        side: list[z3.BoolRef] = []
-        guards: list[z3.BoolRef] = []
-        return type(self)(env, self.constants, side, self.clocks, self.ranges, guards, self.arguments), side, guards
+        quantifier's, a lambda's, a comprehension's: `quantified`, a quantifier's or a
+        comprehension's), with lists of its own for the functions' axioms, the step's conditions
+        (`guards`) and what it assumes of its function-typed bound variables, at those values."""
+        scope = _Scope(self)
+        ids = self.quantified | {id(v) for v in quantified if isinstance(v.type, ast.FunctionType)}
+        scope.ev = type(self)(env, self.constants, scope.side, self.clocks, self.ranges, scope.guards, self.arguments,
+                              ids, scope.assumed)
+        return scope
 
-    def _lift(self, consts: list[z3.ExprRef], side: list[z3.BoolRef], guards: list[z3.BoolRef],
-              where: z3.BoolRef) -> None:
+    def _lift(self, consts: list[z3.ExprRef], scope: _Scope, where: z3.BoolRef) -> None:
         """A bound scope's axioms, for every value of its bound variables; its step conditions
         for every value where it is evaluated (`where`: in the domain, the condition true), as
         conditions of this evaluator's step (or with the axioms where there is no step)."""
-        self.side += [z3.ForAll(consts, c) for c in side]
-        if guards:
-            lifted = z3.ForAll(consts, z3.Implies(where, z3.And(guards)))
+        self.side += [z3.ForAll(consts, c) for c in scope.side]
+        if scope.guards:
+            lifted = z3.ForAll(consts, z3.Implies(where, z3.And(scope.guards)))
             (self.side if self.guards is None else self.guards).append(lifted)
 
     def value(self, e: ast.Expr) -> Value:
@@ -422,7 +443,11 @@ class Evaluator:
             var = e.function.variable if isinstance(e.function, ast.VarRef) else None
             chosen = (var is not None and var.initial is None and var.kind not in ("bound", "let")
                       and id(var) not in self.arguments)
-            where = self.side if chosen or self.guards is None else self.guards
+            if var is not None and id(var) in self.quantified:  # `exists f : nat -> nat @ f(0) == 3`
+                assert self.assumed is not None
+                where = self.assumed
+            else:
+                where = self.side if chosen or self.guards is None else self.guards
             where.extend(domain(result, e.type, Ranges(), "result"))
             return result
         if isinstance(e, (ast.Since, ast.SinceEntry)):
@@ -497,15 +522,15 @@ class Evaluator:
             point = unpack(x, t.domain)
             assert isinstance(point, dict)
             values = {id(v): point[str(i)] for i, v in enumerate(e.variables, 1)}
-        inner, side, guards = self._bound_scope({**self.env, **values})
-        body = pack(inner.value(e.body), t.range)
+        scope = self._bound_scope({**self.env, **values})
+        body = pack(scope.ev.value(e.body), t.range)
         if e.condition is not None:
             outside = z3.Function(f"lambda!{e.pos.line}:{e.pos.column}.outside", x.sort(), sort_of(t.range))
-            body = z3.If(inner.scalar(e.condition), body, outside(x))
-        if guards:
+            body = z3.If(scope.ev.scalar(e.condition), body, outside(x))
+        if scope.guards or scope.assumed:
             # They would concern the steps that apply this lambda, which its value cannot carry.
             raise Unsupported(e.pos, "a function value applied in a lambda's body is not encoded yet")
-        self.side += [z3.ForAll([x], c) for c in side]
+        self.side += [z3.ForAll([x], c) for c in scope.side]
         return z3.Lambda([x], body)
 
     def _comprehension(self, e: ast.SetComprehension) -> z3.ExprRef:
@@ -514,17 +539,19 @@ class Evaluator:
         an existential, which Z3 may answer `unknown` on)."""
         consts, values = self._bound(e.variables, e.pos)
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
-        inner, side, guards = self._bound_scope({**self.env, **values})
-        cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        self._lift(consts, side, guards, z3.And(*dom))
+        scope = self._bound_scope({**self.env, **values}, e.variables)
+        cond = scope.ev.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
+        dom += scope.assumed
+        self._lift(consts, scope, z3.And(*dom))
         guard = z3.And(*dom, cond)
         assert isinstance(e.type, ast.SetType)
         if e.term is None:
             return z3.Lambda(consts, guard)
         y = z3.Const(f"member!{e.pos.line}:{e.pos.column}", sort_of(e.type.element))
-        inner, side, guards = self._bound_scope({**self.env, **values})
-        term = pack(inner.value(e.term), e.type.element)
-        self._lift(consts, side, guards, guard)
+        scope = self._bound_scope({**self.env, **values}, e.variables)
+        term = pack(scope.ev.value(e.term), e.type.element)
+        guard = z3.And(guard, *scope.assumed)
+        self._lift(consts, scope, guard)
         return z3.Lambda([y], z3.Exists(consts, z3.And(guard, _coerce_eq(term, y))))
 
     def _quantifier(self, e: ast.Quantifier) -> z3.BoolRef:
@@ -534,13 +561,15 @@ class Evaluator:
         every value of the bound variables, so they are quantified too."""
         consts, values = self._bound(e.variables, e.pos)
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
-        inner, side, guards = self._bound_scope({**self.env, **values})
-        cond = inner.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        self._lift(consts, side, guards, z3.And(*dom))
+        scope = self._bound_scope({**self.env, **values}, e.variables)
+        cond = scope.ev.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
+        dom += scope.assumed
+        self._lift(consts, scope, z3.And(*dom))
         guard = z3.And(*dom, cond)
-        inner, side, guards = self._bound_scope({**self.env, **values})
-        body = inner.scalar(e.body)
-        self._lift(consts, side, guards, guard)
+        scope = self._bound_scope({**self.env, **values}, e.variables)
+        body = scope.ev.scalar(e.body)
+        guard = z3.And(guard, *scope.assumed)
+        self._lift(consts, scope, guard)
         if e.kind == "forall":
             return z3.ForAll(consts, z3.Implies(guard, body))
         found = z3.Exists(consts, z3.And(guard, body))
