@@ -337,3 +337,38 @@ def test_a_record_literal_omitting_fields_given_to_a_constant_is_unsupported(tmp
     bmc, explicit = both_engines(load(tmp_path), Ranges({"core_nat": Range(Fraction(0), Fraction(2))}), 4, timeout=30)
     for r in (*bmc, *explicit):
         assert r.verdict == "unsupported" and "omitting fields as the value given to constant" in (r.reason or "")
+
+
+NEGATIVE_NAT = """
+enumeration E { A B(nat) }
+record R { k : nat }
+stm M {
+  var n : nat = 0
+  var r : E = A
+  var q : R = R(| k = 0 |)
+  event e
+  initial i
+  state s {}
+  state bad {}
+  transition t0 { from i to s }
+  transition t1 { from s to s trigger e action ACTION }
+  transition t2 { from s to bad condition CONDITION }
+}
+"""
+
+
+@pytest.mark.parametrize(("action", "condition"), [
+    ("n = n - 1", "n < 0"),
+    ("r = B(n - 1)", "r != A"),
+    ("q.k = q.k - 2", "q.k < 0"),
+    ("q = R(| k = n - 1 |)", "q.k < 0"),
+])
+def test_a_negative_value_is_never_stored_in_a_nat(tmp_path: Path, action: str, condition: str) -> None:
+    """`n = n - 1` from 0 in a `nat`: the explicit engine blocks the step, BMC took it, and the replay
+    of BMC's run to `bad` ended in an internal error (a known difference until session 16). BMC
+    now blocks it too: in a field, a record and a literal's parameter as well."""
+    write_files(tmp_path, {"m.rct": NEGATIVE_NAT.replace("ACTION", action).replace("CONDITION", condition),
+                           "m.assertions": "assertion R: bad is reachable in M.\n"})
+    ranges = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range(Fraction(0), Fraction(2))})
+    for results in both_engines(load(tmp_path), ranges, 8, timeout=30):
+        assert [r.verdict for r in results] == ["violated"], results

@@ -33,6 +33,7 @@ from tockbmc.encodings.values import (
     as_type,
     domain,
     equal,
+    fits,
     fresh,
     initially,
     leaf_type,
@@ -456,6 +457,8 @@ class TransitionSystem:
         current.update(bound)
         for a in e.updates:
             new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled).value(a.value)
+            # the value fits its place (a `nat` not negative), or the step cannot be taken
+            enabled += fits(new, _place_type(a.variable.type, a.fields))
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
@@ -803,3 +806,12 @@ def check_encodable(network: Network) -> None:
         for e in comp.machine.events:
             if e.type == ast.STRING:
                 raise Unsupported(e.pos, "string events are not encoded yet")
+
+
+def _place_type(t: ast.Type, fields: tuple[str, ...]) -> ast.Type:
+    """The type of field path `fields` of a place of type `t` (a record's fields, a tuple's parts)."""
+    for f in fields:
+        part = dict(parts(t)).get(f)
+        assert part is not None, (t, f)
+        t = part
+    return t

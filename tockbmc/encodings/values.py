@@ -182,9 +182,31 @@ def initially(v: Value, t: ast.Type, expr: ast.Expr, ev: Evaluator, ranges: Rang
         assert isinstance(v, dict)
         given = dict(expr.fields)
         return [c for f, ft in parts(t)
-                for c in ([equal(v[f], as_type(ev.value(given[f]), ft))] if f in given
+                for c in ([equal(v[f], as_type(ev.value(given[f]), ft)), *fits(v[f], ft)] if f in given
                           else domain(v[f], ft, ranges, f"{path}.{f}"))]
-    return [equal(v, ev.value(expr))]
+    return [equal(v, ev.value(expr)), *fits(v, t)]
+
+
+def fits(v: Value, t: ast.Type) -> list[z3.BoolRef]:
+    """That a value the model computes may be stored in a place of type `t`: a `nat` is not
+    negative, in a record's fields, a tuple's parts and an enumeration literal's parameters too
+    (as the explicit engine's `_fits`; a sequence's or set's items are not checked: that needs a
+    quantifier, docs/semantics.md §10)."""
+    if parts(t):
+        assert isinstance(v, dict)
+        return [c for f, ft in parts(t) for c in fits(v[f], ft)]
+    if t == ast.NAT:
+        assert isinstance(v, z3.ArithRef)
+        return [v >= 0]
+    if isinstance(t, ast.EnumType) and t.params:
+        sort = _variants(t)
+        out: list[z3.BoolRef] = []
+        for i, params in enumerate(t.params):
+            inner = [c for j, pt in enumerate(params) for c in fits(unpack(sort.accessor(i, j)(v), pt), pt)]
+            if inner:
+                out.append(z3.Implies(sort.recognizer(i)(v), z3.And(inner)))
+        return out
+    return []
 
 
 def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
