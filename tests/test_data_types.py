@@ -372,3 +372,14 @@ def test_a_negative_value_is_never_stored_in_a_nat(tmp_path: Path, action: str, 
     ranges = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range(Fraction(0), Fraction(2))})
     for results in both_engines(load(tmp_path), ranges, 8, timeout=30):
         assert [r.verdict for r in results] == ["violated"], results
+
+
+def test_no_initial_configuration_is_said_not_decided_vacuously(tmp_path: Path) -> None:
+    """`var n : nat = 0 - 1`: no run starts, and both engines had decided every claim about it
+    vacuously (deadlock-free held, a state was unreachable). It is now `unknown`, saying why."""
+    write_files(tmp_path, {"m.rct": "stm M {\n var n : nat = 0 - 1\n initial i\n state s {}\n"
+                                    " transition t0 { from i to s }\n}\n",
+                           "m.assertions": "assertion D: M is deadlock-free.\nassertion R: s is reachable in M.\n"})
+    ranges = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range(Fraction(0), Fraction(2))})
+    for results in both_engines(load(tmp_path), ranges, 8, timeout=30):
+        assert [(r.verdict, (r.reason or "")[:12]) for r in results] == [("unknown", "no run start")] * 2, results

@@ -28,7 +28,7 @@ from tockbmc.encodings.system import TransitionSystem, check_encodable
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
-from tockbmc.model.limits import TOO_DEEP_TO_CHECK
+from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.deadlock import diverges, may_diverge, refuses_everything, untimed_deadlocked
@@ -160,6 +160,8 @@ class _Check:
             network = self.network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
+            if not _starts(TransitionSystem(network, self.ranges, consts)):
+                return self.result(Verdict.UNKNOWN, NO_START, proof=Proof.NONE, depth=None)
             if q.context is not None:  # a specification's input read later is told apart value by value
                 q.context.sem.values = _values_of(q, self.ranges, consts)
             if q.determinism:
@@ -579,6 +581,14 @@ def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Cal
     except ReplayGaveUp as exc:
         return f"no: {exc}"
     return "yes"
+
+
+def _starts(system: TransitionSystem) -> bool:
+    """Whether some initial configuration exists (False only when Z3 shows there is none)."""
+    solver = z3.Solver()
+    solver.set(timeout=5000)
+    solver.add(system.init(), *system.invariants())
+    return solver.check() != z3.unsat
 
 
 def replay_trace(q: Query, a: ast.Assertion, goal: Goal, trace: tuple, choices: dict[str, object], ranges: Ranges,

@@ -30,7 +30,7 @@ from tockbmc.model import ast
 from tockbmc.model.config import Configuration, Setup, configure
 from tockbmc.model.data import Variant
 from tockbmc.model.errors import Unsupported
-from tockbmc.model.limits import TOO_DEEP_TO_CHECK
+from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.properties.deadlock import on_cycle
@@ -500,6 +500,8 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
             return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy,
                                timed=q.timed)
 
+        if next(iter(interpreter(True).initial_configs()), None) is None:
+            return result(Verdict.UNKNOWN, NO_START)
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
         if q.inclusion is None or q.goals:  # equals: this direction first

@@ -68,3 +68,7 @@ def recursion_room(depth: int = 20_000) -> Iterator[None]:
 # defined by …, hundreds deep, is evaluated by recursion) is reported with this reason.
 TOO_DEEP_TO_CHECK = ("nested too deeply to check: definitions defined through definitions, or operators inside "
                      "operators, hundreds deep")
+
+# Both engines, where no configuration can start (a check of every run would hold vacuously).
+NO_START = ("no run starts: no initial configuration fits the model's types (an initial value outside "
+            "its variable's type, such as a negative nat, or constants' values that contradict each other)")
