@@ -156,9 +156,10 @@ stm M {
 
 @pytest.mark.parametrize("spec, trace", [
     # re-entering S by its self-transition restarts its during action (b.1 again after c)
-    ("Spec = M::b.out.1 -> Spec [] M::c.in -> After [] M::d.in -> Stop [] tock -> Spec\n"
-     "  After = M::c.in -> After [] M::d.in -> Stop [] tock -> After\n"
-     "  Stop = tock -> Stop", ["M::c.in", "M::b.out.1"]),
+    # (T's b.2 allowed, so that no other violation is as short)
+    ("Spec = M::b.out.1 -> Spec [] M::c.in -> After [] M::d.in -> InT [] tock -> Spec\n"
+     "  After = M::c.in -> After [] M::d.in -> InT [] tock -> After\n"
+     "  InT = tock -> InT [] M::b.out.2 -> InT", ["M::c.in", "M::b.out.1"]),
     # entering T from S starts T's during action (b.2 after d)
     ("Spec = M::b.out.1 -> Spec [] M::c.in -> Spec [] M::d.in -> InT [] tock -> Spec\n"
      "  InT = tock -> InT", ["M::d.in", "M::b.out.2"]),

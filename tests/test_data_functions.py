@@ -436,6 +436,13 @@ stm M {{
     ("forall f : nat -> nat @ f(0) >= 0", "holds"),
     ("forall f : nat -> nat @ f(0) == 0", "violated"),
     ("exists f : nat -> nat @ f(0) < 0", "violated"),
+    # review, session 16: assumed by the innermost scope, not the one binding f (wrong `holds`)
+    ("exists f : nat -> nat @ forall x : nat @ f(x) < 0", "violated"),
+    ("exists f : nat -> nat @ not (exists x : nat @ f(x) >= 0)", "violated"),
+    ("exists f : nat -> nat @ {x : nat | f(x) >= 0} == {}", "violated"),
+    # ... and through a function's parameter or a `let` (wrong `violated`)
+    ("exists f : nat -> nat @ g(f, 0) == 1", "holds"),
+    ("exists f : nat -> nat @ (let h == f @ h(0) == 1)", "holds"),
 ])
 def test_a_quantified_function_ranges_over_the_functions_into_its_type(tmp_path: Path, condition: str,
                                                                        reachable: str) -> None:
@@ -443,6 +450,7 @@ def test_a_quantified_function_ranges_over_the_functions_into_its_type(tmp_path:
     Z3, whose arrays hold any integers) as an axiom or a condition of the step, so the transition
     never fired (review, session 16). It is now assumed by the quantifier, as its domain is."""
     (tmp_path / "m.rct").write_text(f"""
+function g(h : nat -> nat, a : nat) : nat {{ postcondition result == h(a) }}
 stm M {{
   initial i
   state s {{}}
@@ -454,3 +462,70 @@ stm M {{
     (tmp_path / "m.assertions").write_text("assertion R: good is reachable in M.\n")
     [r] = check(load(tmp_path), bound=5, timeout=30)
     assert r.verdict == reachable, r.reason
+
+
+@pytest.mark.parametrize("condition", ["f(0) >= 0", "g(f, 0) >= 0", "(let h == f @ h(0) >= 0)"])
+def test_a_function_nobody_set_gives_results_in_its_type_wherever_it_is_applied(tmp_path: Path,
+                                                                                condition: str) -> None:
+    """`var f : nat -> nat` without a value is any function into nat: `e` is always offered. Passed
+    to a function's parameter or named by a `let`, its result's type had become a condition of the
+    step, and BMC chose f(0) = -1 to block it (a wrong `violated`, review, session 16); applied
+    directly, the replay of the divergence check had ended in an internal error."""
+    (tmp_path / "m.rct").write_text(f"""
+function g(h : nat -> nat, a : nat) : int {{ postcondition result == h(a) }}
+stm M {{
+  var f : nat -> nat
+  event e
+  initial i
+  state s {{}}
+  state bad {{}}
+  transition t0 {{ from i to s }}
+  transition t1 {{ from s to s trigger e condition {condition} }}
+  transition t2 {{ from s to bad condition f(1) < 0 }}
+}}
+""")
+    (tmp_path / "m.assertions").write_text("assertion D: M is deadlock-free.\nassertion N: bad is not reachable in M.\n")
+    results = check(load(tmp_path), bound=6, timeout=30)
+    assert [r.verdict for r in results] == ["holds", "holds"], [r.reason for r in results]
+
+
+@pytest.mark.parametrize("transition", ["trigger e <{1} condition f(y) == 0", "trigger e <{f(y)}"])
+def test_a_function_value_applied_in_a_trigger_deadline_is_unsupported(tmp_path: Path, transition: str) -> None:
+    """Its result's type was made a condition of every configuration at the source, which cut the
+    step into it (`s is reachable` violated; review, session 16); it would be a condition of the
+    tock, which the deadline's counting does not carry."""
+    (tmp_path / "m.rct").write_text(f"""
+stm M {{
+  var f : nat -> nat = lambda x : nat @ x - 5
+  var y : nat = 0
+  event e
+  initial i
+  state s {{}}
+  state good {{}}
+  transition t0 {{ from i to s }}
+  transition t1 {{ from s to good {transition} }}
+}}
+""")
+    (tmp_path / "m.assertions").write_text("assertion R: s is reachable in M.\n")
+    [r] = check(load(tmp_path), bound=6, timeout=30)
+    assert r.verdict == "unsupported" and "trigger deadline" in (r.reason or ""), r.reason
+
+
+def test_the_explicit_engine_keeps_a_result_in_the_type_of_the_place_applied(tmp_path: Path) -> None:
+    """`nat -> nat = lambda x : nat @ x - 5` applied to 1: the interpreter checked the lambda's own
+    range (int) and went on with -4, where BMC keeps the result in nat (review, session 16)."""
+    (tmp_path / "m.rct").write_text("""
+stm M {
+  var f : nat -> nat = lambda x : nat @ x - 5
+  var y : nat = 1
+  initial i
+  state s {}
+  state good {}
+  transition t0 { from i to s }
+  transition t1 { from s to good condition f(y) == -4 }
+}
+""")
+    (tmp_path / "m.assertions").write_text("assertion R: good is reachable in M.\n")
+    ranges = Ranges({"core_int": Range(Fraction(-6), Fraction(6)), "core_nat": Range(Fraction(0), Fraction(6))})
+    [r] = check_explicit(load(tmp_path), None, 6, ranges, {}, 30, 10_000)
+    assert r.verdict == "unsupported" and "outside its type nat" in (r.reason or ""), r.reason

@@ -603,8 +603,8 @@ class TransitionSystem:
             return located
         guards: list[z3.BoolRef] = []
         cond = self.evaluator(c, guards=guards).scalar(td.condition)
-        if guards:  # where the condition is evaluated: at the source
-            self.side.append(z3.Implies(located, z3.And(guards)))
+        if guards:  # they would be the tock's conditions, which the deadline's counting does not carry
+            raise Unsupported(td.condition.pos, _DEADLINE_APPLIES)
         return z3.And(located, cond)
 
     def located(self, c: int, locations: frozenset[int]) -> z3.BoolRef:
@@ -662,10 +662,9 @@ class TransitionSystem:
             for td in comp.automaton.trigger_deadlines:
                 guards: list[z3.BoolRef] = []
                 bound = self.evaluator(c, guards=guards).scalar(td.bound)
-                armed = self.armed(c, td)
-                if guards:  # where the bound is evaluated: while armed
-                    self.side.append(z3.Implies(armed, z3.And(guards)))
-                cs.append(z3.Not(z3.And(armed, f[names.armed(comp.name, td.transition)] >= bound)))
+                if guards:
+                    raise Unsupported(td.bound.pos, _DEADLINE_APPLIES)
+                cs.append(z3.Not(z3.And(self.armed(c, td), f[names.armed(comp.name, td.transition)] >= bound)))
         return z3.And(cs)
 
     # ------------------------------------------------------------ formulas
@@ -806,6 +805,10 @@ def check_encodable(network: Network) -> None:
         for e in comp.machine.events:
             if e.type == ast.STRING:
                 raise Unsupported(e.pos, "string events are not encoded yet")
+
+
+_DEADLINE_APPLIES = ("a function value applied in a trigger deadline's condition or bound is not encoded yet (that its "
+                     "result is in its type would be a condition of each tock)")
 
 
 def _place_type(t: ast.Type, fields: tuple[str, ...]) -> ast.Type:

@@ -305,6 +305,19 @@ def _const(x: Fraction, sort: z3.SortRef) -> z3.ExprRef:
     return z3.RealVal(f"{x.numerator}/{x.denominator}")
 
 
+class _Binder:
+    """A quantifier or comprehension, as the origin of the function values its variables take."""
+
+
+CHOSEN = "chosen"  # a function nobody set: any function into its type, whichever step applies it
+MADE = "made"  # a function the model made (a lambda): its results are in their type where applied
+Origin = Union[str, _Binder]  # CHOSEN, MADE, or the quantifier whose variable it is
+
+# What a bound scope assumes of a quantifier's function-typed variables (its results in type):
+# each with the quantifier it belongs to, which takes it into its domain.
+Assumed = list[tuple[_Binder, z3.BoolRef]]
+
+
 @dataclass
 class _Scope:
     """A bound scope's evaluator (`Evaluator._bound_scope`) and what it collects."""
@@ -312,7 +325,12 @@ class _Scope:
     ev: Evaluator
     side: list[z3.BoolRef] = field(default_factory=list)  # the functions' axioms at its points
     guards: list[z3.BoolRef] = field(default_factory=list)  # the step's conditions at its points
-    assumed: list[z3.BoolRef] = field(default_factory=list)  # its function-typed variables' results in type
+    assumed: Assumed = field(default_factory=list)
+    binder: _Binder = field(default_factory=_Binder)
+
+    def own(self) -> list[z3.BoolRef]:
+        """What it assumes of its own variables."""
+        return [c for b, c in self.assumed if b is self.binder]
 
 
 class Evaluator:
@@ -320,8 +338,8 @@ class Evaluator:
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
                  clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
-                 guards: list[z3.BoolRef] | None = None, arguments: frozenset[int] = frozenset(),
-                 quantified: frozenset[int] = frozenset(), assumed: list[z3.BoolRef] | None = None):
+                 guards: list[z3.BoolRef] | None = None, origins: dict[int, Origin] | None = None,
+                 assumed: Assumed | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
         self.side = side  # constraints that calls of uninterpreted functions add
@@ -331,17 +349,26 @@ class Evaluator:
         # applied here gives a value of its result type concerns this step only, not every step
         # (a lambda's result reads the configuration). None: with the functions' axioms.
         self.guards = guards
-        self.arguments = arguments  # the parameters of the function whose body this evaluates
-        # Function-typed variables of the quantifiers and comprehensions this evaluates inside (any
-        # function into their type: where they are applied, the innermost one assumes the result
-        # is in its type, `assumed`, as it assumes its bound values are in their domain).
-        self.quantified = quantified
-        self.assumed = assumed
+        # Where the function values of names in scope come from (`Origin`, by id(Variable)): a
+        # quantifier's variables, a function's parameters and `let` names of function type.
+        self.origins = origins or {}
+        self.assumed = assumed  # inside a quantifier or comprehension: its `_Scope.assumed`
 
-    def _inner(self, env: dict[int, Value]) -> Evaluator:
+    def _inner(self, env: dict[int, Value], origins: dict[int, Origin] | None = None) -> Evaluator:
         """An evaluator for a nested scope that is evaluated once, where this one is (a `let`)."""
-        return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards, self.arguments,
-                          self.quantified, self.assumed)
+        return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards,
+                          {**self.origins, **(origins or {})}, self.assumed)
+
+    def origin(self, e: ast.Expr) -> Origin:
+        """Where the function value `e` comes from: a name's origin if it has one, else a variable
+        or constant without an initial value is any function (CHOSEN), and anything else (a
+        lambda, `override`, a variable with a lambda for its initial value) MADE."""
+        if not isinstance(e, ast.VarRef):
+            return MADE
+        var = e.variable
+        if id(var) in self.origins:
+            return self.origins[id(var)]
+        return CHOSEN if var.initial is None and var.kind not in ("bound", "let") else MADE
 
     def _bound_scope(self, env: dict[int, Value], quantified: Iterable[ast.Variable] = ()) -> _Scope:
         """An evaluator for a scope evaluated at every value of its bound variables (a
@@ -349,9 +376,9 @@ class Evaluator:
         comprehension's), with lists of its own for the functions' axioms, the step's conditions
         (`guards`) and what it assumes of its function-typed bound variables, at those values."""
         scope = _Scope(self)
-        ids = self.quantified | {id(v) for v in quantified if isinstance(v.type, ast.FunctionType)}
-        scope.ev = type(self)(env, self.constants, scope.side, self.clocks, self.ranges, scope.guards, self.arguments,
-                              ids, scope.assumed)
+        origins = {**self.origins, **{id(v): scope.binder for v in quantified if isinstance(v.type, ast.FunctionType)}}
+        scope.ev = type(self)(env, self.constants, scope.side, self.clocks, self.ranges, scope.guards, origins,
+                              scope.assumed)
         return scope
 
     def _lift(self, consts: list[z3.ExprRef], scope: _Scope, where: z3.BoolRef) -> None:
@@ -359,6 +386,11 @@ class Evaluator:
         for every value where it is evaluated (`where`: in the domain, the condition true), as
         conditions of this evaluator's step (or with the axioms where there is no step)."""
         self.side += [z3.ForAll(consts, c) for c in scope.side]
+        # what it assumes of an enclosing quantifier's functions, at every value of its variables
+        for b, c in scope.assumed:
+            if b is not scope.binder:
+                assert self.assumed is not None
+                self.assumed.append((b, z3.ForAll(consts, z3.Implies(where, c))))
         if scope.guards:
             lifted = z3.ForAll(consts, z3.Implies(where, z3.And(scope.guards)))
             (self.side if self.guards is None else self.guards).append(lifted)
@@ -443,11 +475,15 @@ class Evaluator:
             [a] = operands
             assert not isinstance(a, dict)
             return _set_size(e, e.args[0].type, a, self.ranges)
+        if isinstance(e, ast.Index) and not isinstance(operands[0], dict) or \
+                isinstance(e, ast.Builtin) and e.op in ("head", "last"):
+            self._item_outside(e, operands)
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
             return _collection(e, operands)
         if isinstance(e, ast.Let):
             [bound] = operands
-            return self._inner({**self.env, id(e.variable): bound}).value(e.body)
+            origins = {id(e.variable): self.origin(e.value)} if isinstance(e.variable.type, ast.FunctionType) else {}
+            return self._inner({**self.env, id(e.variable): bound}, origins).value(e.body)
         if isinstance(e, ast.Quantifier):
             return self._quantifier(e)
         if isinstance(e, ast.Lambda):
@@ -458,19 +494,17 @@ class Evaluator:
             f, *args = operands
             assert isinstance(e.function.type, ast.FunctionType) and not isinstance(f, dict)
             result = unpack(f[_argument(e.function.type, args)], e.type)
-            # A result is a value of its type. Of a function nobody set (a variable, constant or
-            # operation's parameter without an initial value: any function) that is what the
-            # environment chose, at every step; of one the model made (a lambda, an argument of a
-            # function, a `let`), a condition of the step that applies it.
-            var = e.function.variable if isinstance(e.function, ast.VarRef) else None
-            chosen = (var is not None and var.initial is None and var.kind not in ("bound", "let")
-                      and id(var) not in self.arguments)
-            if var is not None and id(var) in self.quantified:  # `exists f : nat -> nat @ f(0) == 3`
+            # A result is a value of its type. Of a function nobody set (CHOSEN) that is what the
+            # environment chose, at every step; of a quantifier's variable (`exists f : nat -> nat
+            # @ f(0) == 3`), what the quantifier assumes, as of its domain; of one the model made
+            # (a lambda), a condition of the step that applies it.
+            origin = self.origin(e.function)
+            kept = domain(result, e.type, Ranges(), "result")
+            if isinstance(origin, _Binder):
                 assert self.assumed is not None
-                where = self.assumed
+                self.assumed += [(origin, c) for c in kept]
             else:
-                where = self.side if chosen or self.guards is None else self.guards
-            where.extend(domain(result, e.type, Ranges(), "result"))
+                (self.side if origin == CHOSEN or self.guards is None else self.guards).extend(kept)
             return result
         if isinstance(e, (ast.Since, ast.SinceEntry)):
             name = e.clock.name if isinstance(e, ast.Since) else entry_clock(e.state)
@@ -479,13 +513,32 @@ class Evaluator:
             return self.clocks[name]
         raise Unsupported(e.pos, f"{type(e).__name__} expressions are not encoded yet")
 
+    def _item_outside(self, e: ast.Expr, operands: list[Value]) -> None:
+        """An item read outside its sequence's length (`s[i]`, `head`, `last` of an empty one) is
+        any value of the item's type: Z3's `nth` is unspecified there, and this keeps it in the
+        type (a constraint on that unspecified value alone, so it removes no run; at every step,
+        for the sequence and index the read has there)."""
+        t = e.type
+        if isinstance(t, (ast.SeqType, ast.SetType, ast.FunctionType)) or self.assumed is not None:
+            # a container's items would need a quantifier, and so would a read inside a quantifier,
+            # a lambda or a comprehension (`forall i @ s[i] < b`: Z3 did not answer at depth 1)
+            return
+        seq = operands[0]
+        assert isinstance(seq, z3.SeqRef)
+        at = operands[1] if isinstance(e, ast.Index) else z3.IntVal(1) if e.op == "head" else z3.Length(seq)  # type: ignore[attr-defined]
+        assert isinstance(at, z3.ArithRef)
+        kept = domain(unpack(seq[at - 1], t), t, given_types(self.ranges), "item")
+        if kept:
+            self.side.append(z3.Implies(z3.Not(z3.And(at >= 1, at <= z3.Length(seq))), z3.And(kept)))
+
     def _call(self, e: ast.Call, args: list[Value]) -> Value:
         f = e.function
         if f.unchecked:
             raise Unsupported(e.pos, ast.unchecked_function(f))
         if f.definition is not None:
+            origins = {id(p): self.origin(x) for p, x in zip(f.parameters, e.args) if isinstance(p.type, ast.FunctionType)}
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side,
-                              ranges=self.ranges, guards=self.guards, arguments=frozenset(id(p) for p in f.parameters))
+                              ranges=self.ranges, guards=self.guards, origins=origins, assumed=self.assumed)
             defined = inner.value(f.definition)
             if not f.preconditions:
                 return defined
@@ -549,10 +602,10 @@ class Evaluator:
         if e.condition is not None:
             outside = z3.Function(f"lambda!{e.pos.line}:{e.pos.column}.outside", x.sort(), sort_of(t.range))
             body = z3.If(scope.ev.scalar(e.condition), body, outside(x))
-        if scope.guards or scope.assumed:
+        if scope.guards:
             # They would concern the steps that apply this lambda, which its value cannot carry.
             raise Unsupported(e.pos, "a function value applied in a lambda's body is not encoded yet")
-        self.side += [z3.ForAll([x], c) for c in scope.side]
+        self._lift([x], scope, z3.BoolVal(True))
         return z3.Lambda([x], body)
 
     def _comprehension(self, e: ast.SetComprehension) -> z3.ExprRef:
@@ -563,7 +616,7 @@ class Evaluator:
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
         scope = self._bound_scope({**self.env, **values}, e.variables)
         cond = scope.ev.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        dom += scope.assumed
+        dom += scope.own()
         self._lift(consts, scope, z3.And(*dom))
         guard = z3.And(*dom, cond)
         assert isinstance(e.type, ast.SetType)
@@ -572,7 +625,7 @@ class Evaluator:
         y = z3.Const(f"member!{e.pos.line}:{e.pos.column}", sort_of(e.type.element))
         scope = self._bound_scope({**self.env, **values}, e.variables)
         term = pack(scope.ev.value(e.term), e.type.element)
-        guard = z3.And(guard, *scope.assumed)
+        guard = z3.And(guard, *scope.own())
         self._lift(consts, scope, guard)
         return z3.Lambda([y], z3.Exists(consts, z3.And(guard, _coerce_eq(term, y))))
 
@@ -585,12 +638,12 @@ class Evaluator:
         dom = [c for v in e.variables for c in domain(values[id(v)], v.type, self.ranges, f"{v.owner}::{v.name}")]
         scope = self._bound_scope({**self.env, **values}, e.variables)
         cond = scope.ev.scalar(e.condition) if e.condition is not None else z3.BoolVal(True)
-        dom += scope.assumed
+        dom += scope.own()
         self._lift(consts, scope, z3.And(*dom))
         guard = z3.And(*dom, cond)
         scope = self._bound_scope({**self.env, **values}, e.variables)
         body = scope.ev.scalar(e.body)
-        guard = z3.And(guard, *scope.assumed)
+        guard = z3.And(guard, *scope.own())
         self._lift(consts, scope, guard)
         if e.kind == "forall":
             return z3.ForAll(consts, z3.Implies(guard, body))

@@ -1504,7 +1504,8 @@ class Interpreter:
         """A function value applied to its arguments (several, or one tuple of a product domain)."""
         if isinstance(f, AnyFunction):
             raise NotInterpretable(e.pos, f"a function of type {f.type} that has no value is applied")
-        assert isinstance(f, Closure)
+        if not isinstance(f, Closure):  # a function value taken from a BMC run (a replay's start)
+            raise NotInterpretable(e.pos, "a function value the interpreter did not make is applied")
         t = f.fn.type
         assert isinstance(t, ast.FunctionType)
         point = _coerce(t.domain, args[0] if len(args) == 1 else Product(args))
@@ -1521,8 +1522,11 @@ class Interpreter:
             result = _coerce(t.range, self._ev(ctx, f.fn.body))
         finally:
             ctx.bind = saved
-        if not _fits(t.range, result):  # BMC keeps a function's results in their type
-            raise NotInterpretable(e.pos, f"a function's result {value_text(t.range, result)} outside its type {t.range}")
+        # BMC keeps a function's results in their type: the type the application has (a lambda's
+        # own range may be wider than that of the place holding it: `nat -> nat = lambda x : nat @ x - 5`)
+        expected = e.type if isinstance(e, ast.Apply) and e.type is not None else t.range
+        if not _fits(t.range, result) or not _fits(expected, result):
+            raise NotInterpretable(e.pos, f"a function's result {value_text(expected, result)} outside its type {expected}")
         return result
 
     def _comprehension(self, ctx: _Ctx, e: ast.SetComprehension) -> frozenset:
