@@ -488,3 +488,60 @@ def test_a_value_set_through_an_instance_path_is_that_instances_alone(tmp_path: 
         assert r["verdict"] == "violated" and r["constants"]["ctrl0::stm_ref0::CC"] == "Value::VB", (engine, r)
     out = run_cli(["explore", str(tmp_path), "--param", "ctrl0::stm_ref0::CC"])
     assert out.exit_code == 2 and "name it by its declaration" in out.output, out.output
+
+
+INSTANCES_IN_A_MODULE = """
+controller ctrl0 {
+  const K : int
+  event e1 : int
+  event e2 : int
+  sref stm_ref0 = STM
+  sref stm_ref1 = STM
+  connection stm_ref0 on e to ctrl0 on e1
+  connection stm_ref1 on e to ctrl0 on e2
+}
+stm STM {
+  const CC : int
+  const D : int = 0
+  event e : int
+  initial i0
+  state s {}
+  final f0
+  transition t0 { from i0 to s action e!CC }
+  transition t1 { from s to f0 condition CC == 1 }
+}
+interface IE { event e1 : int event e2 : int }
+module Mod {
+  robotic platform rp { uses IE }
+  cref c = ctrl0
+  connection c on e1 to rp on e1 ( _async )
+  connection c on e2 to rp on e2 ( _async )
+}
+"""
+
+
+def test_an_instance_is_one_instance_whichever_element_it_is_named_from(tmp_path: Path) -> None:
+    """Review, session 16: `Mod::c::stm_ref0::CC` was dropped when ctrl0 was checked alone (but
+    applied to STM alone), two names of one instance with two values were an internal error, and a
+    constant with a value in the model, or a controller's (shared by its instances), silently took
+    the value for every instance."""
+    write_files(tmp_path, {"m.rct": INSTANCES_IN_A_MODULE, "m.assertions": (
+        "assertion M: Mod terminates.\nassertion C: ctrl0 terminates.\nassertion S: STM terminates.\n")})
+    out = run_cli(["check", str(tmp_path), "--format", "json", "--set", "Mod::c::stm_ref0::CC=1",
+                   "--set", "Mod::c::stm_ref1::CC=1"])
+    results = {r["assertion"]: r for r in json.loads(out.stdout)["results"]}
+    assert results["M"]["constants"]["Mod::c::stm_ref1::CC"] == "1", results["M"]
+    assert results["C"]["constants"]["ctrl0::stm_ref1::CC"] == "1", results["C"]
+    assert results["S"]["constants"]["STM::CC"] == "1" and results["S"]["verdict"] == "holds", results["S"]
+    # two instances, two values: STM on its own takes neither (RoboTool's default, shown as such)
+    out = run_cli(["check", str(tmp_path), "-a", "S", "--format", "json", "--set", "ctrl0::stm_ref0::CC=1",
+                   "--set", "ctrl0::stm_ref1::CC=2"])
+    [s] = json.loads(out.stdout)["results"]
+    assert s["constants"]["STM::CC"] == "0" and s["sources"]["constants"]["STM::CC"] == "RoboTool default", s
+    for settings, message in [
+        (["ctrl0::stm_ref0::CC=1", "Mod::c::stm_ref0::CC=2"], "give one instance's constant two values"),
+        (["ctrl0::stm_ref0::D=1"], "has a value in the model"),
+        (["Mod::c::K=1"], "whose constants are one for every instance"),
+    ]:
+        out = run_cli(["check", str(tmp_path), *[x for v in settings for x in ("--set", v)]])
+        assert out.exit_code == 2 and message in out.output, out.output

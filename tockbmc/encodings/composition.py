@@ -83,6 +83,7 @@ class Network:
     # A module's `terminate` is hidden (RoboTool's module ends `\ {|terminate|}`): it terminates
     # with an internal step, and its trace ends in ✓ alone (docs/semantics.md §5.6).
     hidden_termination: bool = False
+    qname: str = ""  # the element's qualified name (results name its instances' constants from it)
 
     def route(self, component: int, event: str) -> tuple[Link, str] | None:
         """The link that carries a component's event, and which end the component is."""
@@ -317,7 +318,8 @@ def network_of(element: ast.StateMachine | ast.Controller | ast.Module,
         element, defined = untimed(element, defined)
         return replace(network_of(element, defined), timed=False)
     if isinstance(element, ast.StateMachine):  # an operation on its own ends with ✓ alone, as a module does
-        return replace(of_machine(element, defined), hidden_termination=isinstance(element, ast.OperationMachine))
+        return replace(of_machine(element, defined), hidden_termination=isinstance(element, ast.OperationMachine),
+                       qname=element.qname)
     if isinstance(element, ast.Controller):
-        return of_controller(element)
-    return replace(of_module(element), hidden_termination=True)
+        return replace(of_controller(element), qname=element.qname)
+    return replace(of_module(element), hidden_termination=True, qname=element.qname)

@@ -342,12 +342,12 @@ class TransitionSystem:
             self.constraints += initially(value, v.type, expr, Evaluator({}, {}, self.side, ranges=self.ranges),
                                           self.ranges, declaration_key(decl))
             if ast.omits_fields(expr):  # its open fields, shown with the trace as an open constant's value
-                self.open_constants.setdefault(instance_name(self.name, instance, v) if instance else declaration_key(decl),
+                self.open_constants.setdefault(instance_name(self.network.qname or self.name, instance, v) if instance else declaration_key(decl),
                                                value)
         else:
             self.constraints += domain(value, v.type, self.ranges, declaration_key(decl))
             # one parameter per instance of a machine's own constant (`stm_ref0::CC`), as its values are
-            self.open_constants.setdefault(instance_name(self.name, instance, v) if instance else declaration_key(decl), value)
+            self.open_constants.setdefault(instance_name(self.network.qname or self.name, instance, v) if instance else declaration_key(decl), value)
         return value
 
     # ------------------------------------------------------------ moves

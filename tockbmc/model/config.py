@@ -326,9 +326,9 @@ def instance_key(instance: tuple[str, ...], v: ast.Variable) -> str:
 
 
 def instance_name(element: str, instance: tuple[str, ...], v: ast.Variable) -> str:
-    """How results name one instance's constant, from the checked element's short name:
-    `ctrl0::stm_ref0::CC`, which `--set` and `with constant CC of ctrl0::stm_ref0` accept."""
-    return f"{element.rsplit('::', 1)[-1]}::{'::'.join(instance)}::{v.name}"
+    """How results name one instance's constant, from the checked element's qualified name:
+    `ctrl0::stm_ref0::CC`, which `--set` accepts."""
+    return f"{element}::{'::'.join(instance)}::{v.name}"
 
 
 def instance_paths(element: Checked, instance: tuple[str, ...]) -> set[str]:
@@ -347,6 +347,48 @@ def instance_paths(element: Checked, instance: tuple[str, ...]) -> set[str]:
         else:
             break
     return out
+
+
+Chain = tuple[tuple[object, tuple[str, ...]], ...]  # (element, the instance path below it to the machine)
+
+
+def _below(e: object, name: str) -> object | None:
+    """The element instance `name` of `e` stands for (a controller's machine or operation, a
+    module's controller)."""
+    if isinstance(e, ast.Module):
+        return next((ci.controller for ci in e.controllers if ci.name == name), None)
+    if isinstance(e, ast.Controller):
+        return next((x.machine for x in e.machines if x.name == name), None) or \
+            next((x.operation for x in e.operations if x.name == name), None)
+    return None
+
+
+def instance_chain(start: object, path: tuple[str, ...]) -> Chain | None:
+    """The elements a path of instances from `start` goes through, each with the rest of the path
+    from it (the last with none); None where an instance does not exist."""
+    out: list[tuple[object, tuple[str, ...]]] = [(start, path)]
+    e: object | None = start
+    for k, step in enumerate(path):
+        e = _below(e, step)
+        if e is None:
+            return None
+        out.append((e, path[k + 1:]))
+    return tuple(out)
+
+
+def _same_instance(flag: Chain, slot: Chain) -> bool:
+    """Whether two chains reach one instance: seen from the first element of the slot's chain that
+    the flag's goes through (`ctrl0::stm_ref0` is `Mod::c::stm_ref0` in Mod, where c is ctrl0,
+    and STM itself where STM is checked on its own), the paths below it agree."""
+    for e, rest in slot:
+        for f, frest in flag:
+            if f is e:
+                return rest == frest
+    return False
+
+
+def _text(entry: _ConstEntry) -> str:
+    return describe_value(entry.value) if entry.value is not None else "(a parameter)"
 
 
 def _instances_named(head: str, constant: str, element: Checked, slots: list[_Slot]) -> list[_Slot]:
@@ -448,14 +490,19 @@ class Names:
             raise ConfigError(f"'{name}' is ambiguous: it names {options}; qualify it", option)
         return found
 
-    def instance_path(self, name: str) -> str | None:
-        """The instance path a constant's name goes through (`ctrl0::stm_ref0` in
-        `ctrl0::stm_ref0::CC`), or None when it names the declaration (`STM::CC`, `CC`)."""
-        head = name.rpartition("::")[0]
-        elements = self.elements.get(head, [])
-        if not head or not elements or any(head in (e.qname, e.qname.rsplit("::", 1)[-1]) for e in elements):
-            return None
-        return head
+    def instance_chain(self, name: str) -> Chain | None:
+        """The elements a constant's name goes through when it names it by a path of instances
+        (`ctrl0::stm_ref0::CC`: ctrl0, then STM), or None when it names the declaration (`STM::CC`,
+        `CC`)."""
+        segments = name.split("::")[:-1]
+        for k in range(len(segments) - 1, 0, -1):
+            prefix = "::".join(segments[:k])
+            for e in self.elements.get(prefix, []):
+                if prefix in (e.qname, e.qname.rsplit("::", 1)[-1]):
+                    chain = instance_chain(e, tuple(segments[k:]))
+                    if chain is not None:
+                        return chain
+        return None
 
     def _suggest(self, name: str) -> str:
         return suggestion(name, [p for p, _ in self.all_constants] + [v.name for _, v in self.all_constants])
@@ -631,18 +678,19 @@ class Configuration:
             if r is not None:
                 check_range(name, t, r)
             self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
-        # one instance's constant (`ctrl0::stm_ref0::CC`), by the name given: (instance path, constant,
+        # one instance's constant (`ctrl0::stm_ref0::CC`), by the name given: (the instance's chain,
         # its declaration's key, value)
-        self._instance_flags: dict[str, tuple[str, str, str, _ConstEntry]] = {}
+        self._instance_flags: dict[str, tuple[Chain, str, _ConstEntry]] = {}
         named_by: dict[str, str] = {}  # declaration -> the --set name that gave it a value
         for name, given in (settings or {}).items():
             for v in self.names.constant(name, "--set"):
                 value = _value_of_text(given, v.type, name) if isinstance(given, str) else given
                 if not isinstance(given, str) and not ast.assignable(v.type, value.type):
                     raise ConfigError(f"{name} is {v.type}: the value given is {value.type}")
-                head = self.names.instance_path(name)
-                if head is not None and v.initial is None:
-                    self._instance_flags[name] = (head, v.name, declaration_key(v), _ConstEntry(value, FLAG_SET))
+                chain = self.names.instance_chain(name)
+                if chain is not None:
+                    self._instance_flags[name] = (self._one_instance(name, v, chain), declaration_key(v),
+                                                  _ConstEntry(value, FLAG_SET))
                     continue
                 key = declaration_key(v)
                 if key in named_by:
@@ -650,7 +698,7 @@ class Configuration:
                 named_by[key] = name
                 self._flags[key] = _ConstEntry(value, FLAG_SET)
         for name in params:
-            if self.names.instance_path(name) is not None:
+            if self.names.instance_chain(name) is not None:
                 found = self.names.constant(name, "--param")
                 raise ConfigError(f"{name} names one instance's constant, and --param makes a declaration's constant "
                                   "a parameter, each instance's its own: name it by its declaration "
@@ -667,6 +715,9 @@ class Configuration:
         # by the element's id, the element kept beside its slots so that the id is never another's
         # (an operation checked on its own is a view made per assertion: `ast.operation_machine`)
         self._slots: dict[int, tuple[Checked, list[_Slot]]] = {}
+        checked: list[Checked] = [*self.project.controllers, *self.project.modules]
+        for e in checked:  # one instance given two values: a usage error
+            self._by_instance_flags(e, robotool_slots(self.project, e))
 
     # --- ranges
 
@@ -754,17 +805,10 @@ class Configuration:
                 if found is not None and ast.assignable(s.variable.type, found[0].type):
                     out[(s.instance, key)] = _ConstEntry(*found)
                     break
-        given_by: dict[tuple[tuple[str, ...], str], str] = {}
-        for name, (head, constant, key, entry) in self._instance_flags.items():  # `--set ctrl0::stm_ref0::CC=…`
-            if key in entries and _RANK.get(entries[key].source.what, 0) > _RANK[FLAG_SET.what]:
-                continue  # the assertion sets the declaration (`with constant`, a `D__` argument)
-            for s in _instances_named(head, constant, element, slots):
-                at = (s.instance, declaration_key(s.variable))
-                if at in given_by:
-                    raise ConfigError(f"{given_by[at]} and {name} both name the constant {constant} of one instance",
-                                      "--set")
-                given_by[at] = name
-                out[at] = entry
+        for at, (_name, entry) in self._by_instance_flags(element, slots).items():  # `--set ctrl0::stm_ref0::CC=…`
+            key = at[1]
+            if not (key in entries and _RANK.get(entries[key].source.what, 0) > _RANK[FLAG_SET.what]):
+                out[at] = entry  # unless the assertion sets the declaration (`with constant`, `D__`)
         for setting in a.settings if a is not None else ():
             if setting.kind == "constant":
                 for s in _instances_named(setting.element, setting.constant, element, slots):
@@ -772,20 +816,54 @@ class Configuration:
                         setting.value, Source("with constant", _at(setting.pos)))
         return out
 
-    def _instance_flags_alone(self, element: Checked, slots: list[_Slot], entries: dict[str, _ConstEntry]) -> None:
-        """`--set ctrl0::stm_ref0::CC=…` where the element checked holds the declaration but not
-        through instances (the machine checked on its own): the instance's value is the
-        declaration's there."""
-        given_by: dict[str, str] = {}
-        for name, (head, constant, key, entry) in self._instance_flags.items():
-            if _instances_named(head, constant, element, slots) or \
-                    not any(not s.instance and declaration_key(s.variable) == key for s in slots):
+    def _one_instance(self, name: str, v: ast.Variable, chain: Chain) -> Chain:
+        """`--set` through a path of instances names one machine instance's constant: one without
+        a value in the model (which every instance shares), of a machine's (a controller's
+        constants are one for every instance of the controller)."""
+        if v.initial is not None:
+            raise ConfigError(f"{name} names one instance's constant, and {declaration_key(v)} has a value in the "
+                              f"model, which every instance shares: name it {declaration_key(v)} to set it",
+                              "--set")
+        if not isinstance(chain[-1][0], (ast.StateMachine, ast.OperationDef)):
+            raise ConfigError(f"{name} names an instance of {getattr(chain[-1][0], 'qname', '?')}, whose constants are "
+                              f"one for every instance: name it {declaration_key(v)}", "--set")
+        return chain
+
+    def _by_instance_flags(self, element: Checked, slots: list[_Slot]
+                           ) -> dict[tuple[tuple[str, ...], str], tuple[str, _ConstEntry]]:
+        """The values `--set` gives instances' constants in `element`, by (instance, declaration
+        key). Two names of one instance with two values are a usage error."""
+        out: dict[tuple[tuple[str, ...], str], tuple[str, _ConstEntry]] = {}
+        for s in slots:
+            if not s.instance or s.variable.initial is not None:
                 continue
-            if key in given_by:
-                raise ConfigError(f"{given_by[key]} and {name} both name {key}, which {element.qname} holds once",
-                                  "--set")
-            given_by[key] = name
-            entries[key] = entry
+            key = declaration_key(s.variable)
+            chain = instance_chain(element, s.instance)
+            for name, (flag, fkey, entry) in self._instance_flags.items():
+                if fkey != key or chain is None or not _same_instance(flag, chain):
+                    continue
+                at = (s.instance, key)
+                if at in out and _text(out[at][1]) != _text(entry):
+                    raise ConfigError(f"{out[at][0]} and {name} give one instance's constant two values", "--set")
+                out[at] = (name, entry)
+        return out
+
+    def _instance_flags_alone(self, element: Checked, slots: list[_Slot], entries: dict[str, _ConstEntry]) -> None:
+        """`--set ctrl0::stm_ref0::CC=…` where the element checked holds the declaration itself,
+        not through instances (the machine checked on its own, or a constant the machine requires
+        and its controller provides): the instance's value is the declaration's there, unless two
+        instances' values differ (then neither is)."""
+        found: dict[str, list[_ConstEntry]] = {}
+        for s in slots:
+            key = declaration_key(s.variable)
+            if s.instance or key in found:
+                continue
+            for flag, fkey, entry in self._instance_flags.values():
+                if fkey == key and any(f is element for f, _rest in flag):
+                    found.setdefault(key, []).append(entry)
+        for key, given in found.items():
+            if len({_text(g) for g in given}) == 1:
+                entries[key] = given[0]
 
     @staticmethod
     def _bind_required(slots: list[_Slot], declared: dict[str, ast.Variable], entries: dict[str, _ConstEntry]) -> None:
