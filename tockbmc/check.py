@@ -119,6 +119,11 @@ class _Check:
 
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
+        if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) and not decided.trace and self.network is not None \
+                and not _starts(TransitionSystem(self.network, self.ranges, self.consts)):
+            # shown of no run at all (a run shown starts): asked after the verdict, as building a
+            # system beforehand changes what Z3 meets first (a determinism check gave up on it)
+            return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE, reason=NO_START)
         q = self.q
         if q is None or not one_value_only(q, decided.verdict):
             return decided
@@ -160,8 +165,6 @@ class _Check:
             network = self.network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants
-            if not _starts(TransitionSystem(network, self.ranges, consts)):
-                return self.result(Verdict.UNKNOWN, NO_START, proof=Proof.NONE, depth=None)
             if q.context is not None:  # a specification's input read later is told apart value by value
                 q.context.sem.values = _values_of(q, self.ranges, consts)
             if q.determinism:
