@@ -119,10 +119,11 @@ class _Check:
 
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
-        if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) and not decided.trace and self.network is not None \
+        if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) and self.network is not None \
                 and not _starts(TransitionSystem(self.network, self.ranges, self.consts)):
-            # shown of no run at all (a run shown starts): asked after the verdict, as building a
-            # system beforehand changes what Z3 meets first (a determinism check gave up on it)
+            # shown of no run at all (a trace shown may be the specification's, the model on the
+            # right): asked after the verdict, as building a system beforehand changes what Z3
+            # meets first (a determinism check gave up on it)
             return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE, reason=NO_START)
         q = self.q
         if q is None or not one_value_only(q, decided.verdict):

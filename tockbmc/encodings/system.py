@@ -441,6 +441,7 @@ class TransitionSystem:
         bound: dict[int, Value] = {}
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
+            enabled += fits(incoming, e.binds.type)  # `e?x` into a nat x: not a negative value
         ev = self.evaluator(c, bound, guards=enabled)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))

@@ -363,6 +363,10 @@ class Evaluator:
         """Where the function value `e` comes from: a name's origin if it has one, else a variable
         or constant without an initial value is any function (CHOSEN), and anything else (a
         lambda, `override`, a variable with a lambda for its initial value) MADE."""
+        if isinstance(e, ast.FieldRef):  # a record's field, or a tuple's part: the record's origin
+            return self.origin(e.record)
+        if isinstance(e, ast.Index) and isinstance(e.value.type, ast.ProductType):
+            return self.origin(e.value)
         if not isinstance(e, ast.VarRef):
             return MADE
         var = e.variable

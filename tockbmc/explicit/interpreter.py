@@ -2087,6 +2087,8 @@ class Interpreter:
                       done: list, out: list) -> None:
         bi = self._beh(d, True)
         args = [_coerce(p.type, self._eval(ctx, a)) for p, a in zip(d.parameters, st.args, strict=False)]
+        if not all(_fits(p.type, a) for p, a in zip(d.parameters, args, strict=False)):
+            return  # a nat parameter given a negative value: the call cannot be made (as BMC's `fits`)
         for p, a in zip(d.parameters, args, strict=False):
             ctx.set(self._slot(i, p), a)
         locals_ = [v for v in d.variables if not v.constant]  # constants are set once, like the machine's

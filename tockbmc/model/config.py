@@ -377,13 +377,16 @@ def instance_chain(start: object, path: tuple[str, ...]) -> Chain | None:
 
 
 def _same_instance(flag: Chain, slot: Chain) -> bool:
-    """Whether two chains reach one instance: seen from the first element of the slot's chain that
-    the flag's goes through (`ctrl0::stm_ref0` is `Mod::c::stm_ref0` in Mod, where c is ctrl0,
-    and STM itself where STM is checked on its own), the paths below it agree."""
-    for e, rest in slot:
-        for f, frest in flag:
-            if f is e:
-                return rest == frest
+    """Whether two chains reach one instance: seen from the first element of one chain that the
+    other goes through (`ctrl0::stm_ref0` is `Mod::c::stm_ref0` in Mod, where c is ctrl0), the
+    paths below it agree."""
+    (first, rest), (ffirst, frest) = slot[0], flag[0]
+    for f, at in flag:  # the slot's element on the flag's way
+        if f is first:
+            return at == rest
+    for e, at in slot:  # the flag's first element on the slot's way (ctrl1's STM is not ctrl0's)
+        if e is ffirst:
+            return at == frest
     return False
 
 
