@@ -26,6 +26,8 @@ RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range
     # the model on the right of a refinement, which no run starts: the specification's trace had
     # been shown as a violation
     ("ns2", {"A2": "unknown"}),
+    # `with constant K of M set to -1` of a nat K: the interpreter took -1 (no run starts, in BMC)
+    ("k2", {"R": "unknown", "D": "unknown", "E": "violated"}),
 ])
 def test_both_engines(case: str, expected: dict[str, str]) -> None:
     bmc, explicit = both_engines(load(MODELS / case), RANGES, 10, timeout=30)

@@ -1711,6 +1711,8 @@ class Interpreter:
                     found, val = self._match(choices, info)
                 if found:
                     base[s] = _coerce(var.type, val)
+                    if not _fits(var.type, base[s]):  # `with constant K set to -1` of a nat K: no run starts
+                        return
                 elif var.initial is not None:
                     deferred.append((s, info))
                     if isinstance(var.initial, ast.RecordLiteral) and var.initial.omitted:
