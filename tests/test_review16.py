@@ -26,6 +26,8 @@ RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range
     # the model on the right of a refinement, which no run starts: the specification's trace had
     # been shown as a violation
     ("ns2", {"A2": "unknown"}),
+    # ... and on the specification's side, a model element (N refines M, M not starting)
+    ("ns1", {"A6": "unknown"}),
     # `with constant K of M set to -1` of a nat K: the interpreter took -1 (no run starts, in BMC)
     ("k2", {"R": "unknown", "D": "unknown", "E": "violated"}),
 ])

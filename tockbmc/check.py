@@ -120,7 +120,7 @@ class _Check:
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
         if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) and self.network is not None \
-                and not _starts(TransitionSystem(self.network, self.ranges, self.consts)):
+                and not (_starts(TransitionSystem(self.network, self.ranges, self.consts)) and self._spec_starts()):
             # shown of no run at all (a trace shown may be the specification's, the model on the
             # right): asked after the verdict, as building a system beforehand changes what Z3
             # meets first (a determinism check gave up on it)
@@ -142,6 +142,16 @@ class _Check:
                                   f"({', '.join(left)}), and the claim needs every choice there "
                                   f"(docs/semantics.md §6.4): {decided.reason}")
         return decided
+
+    def _spec_starts(self) -> bool:
+        """Whether the model element on the specification's side, if any, has a run that starts."""
+        q = self.q
+        if q is None or q.spec_element is None:
+            return True
+        spec = q.spec_element
+        consts = self.config.setup(self.a, spec.element, spec.settings).constants
+        return _starts(TransitionSystem(network_of(spec.element, dict(spec.defined), timed=q.timed), self.ranges,
+                                        consts))
 
     def open_values(self) -> list[str]:
         """What the element's runs can meet that the model leaves open (`bmc.interpretations`)."""

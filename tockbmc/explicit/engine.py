@@ -502,6 +502,13 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
 
         if next(iter(interpreter(True).initial_configs()), None) is None:
             return result(Verdict.UNKNOWN, NO_START)
+        if q.spec_element is not None:  # the model element on the specification's side
+            spec = q.spec_element
+            spec_setup = config.setup(a, spec.element, spec.settings)
+            spec_interp = Interpreter(spec.element, ranges_dict(spec_setup.ranges), python_settings(spec_setup.constants),
+                                      dict(spec.defined), lazy=True, timed=q.timed)
+            if next(iter(spec_interp.initial_configs()), None) is None:
+                return result(Verdict.UNKNOWN, NO_START)
         # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
         # greatest fixpoint and the traces the specification lists are searched over every value.
         if q.inclusion is None or q.goals:  # equals: this direction first
