@@ -101,6 +101,7 @@ class _Check:
         self.functions: tuple[str, ...] = ()  # functions without a body the elements call (`one_value_only`)
         self.witnessed = False  # whether `found` decided a witness (and weighed what it rests on)
         self.network: Network | None = None
+        self.spec_consts: dict[str, ast.Expr] = {}  # the constants of a model element on the specification's side
 
     def time_left(self) -> float | None:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
@@ -149,9 +150,8 @@ class _Check:
         if q is None or q.spec_element is None:
             return True
         spec = q.spec_element
-        consts = self.config.setup(self.a, spec.element, spec.settings).constants
         return _starts(TransitionSystem(network_of(spec.element, dict(spec.defined), timed=q.timed), self.ranges,
-                                        consts))
+                                        self.spec_consts))
 
     def open_values(self) -> list[str]:
         """What the element's runs can meet that the model leaves open (`bmc.interpretations`)."""
@@ -168,9 +168,10 @@ class _Check:
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
-            self.parameters = setup.parameters + (self.config.setup(self.a, q.spec_element.element,
-                                                                    q.spec_element.settings).parameters
-                                                  if q.spec_element is not None else ())
+            spec_setup = (self.config.setup(self.a, q.spec_element.element, q.spec_element.settings)
+                          if q.spec_element is not None else None)
+            self.spec_consts = spec_setup.constants if spec_setup is not None else {}
+            self.parameters = setup.parameters + (spec_setup.parameters if spec_setup is not None else ())
             self.functions = tuple(f.qname for f in ast.free_functions(
                 q.element, q.defined, q.spec_element.element if q.spec_element is not None else None))
             network = self.network = network_of(q.element, dict(q.defined), timed=q.timed)

@@ -459,7 +459,7 @@ class TransitionSystem:
         for a in e.updates:
             new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled).value(a.value)
             # the value fits its place (a `nat` not negative), or the step cannot be taken
-            enabled += fits(new, _place_type(a.variable.type, a.fields))
+            enabled += fits(new, leaf_type(a.variable.type, "".join(f".{f}" for f in a.fields)))
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
@@ -600,13 +600,15 @@ class TransitionSystem:
     def armed(self, c: int, td: TriggerDeadline) -> z3.BoolRef:
         """The source of a deadline transition is stable and its condition true."""
         located = self.located(c, td.armed)
-        if td.condition is None:
-            return located
+        return located if td.condition is None else z3.And(located, self._deadline_scalar(c, td.condition))
+
+    def _deadline_scalar(self, c: int, e: ast.Expr) -> z3.ExprRef:
+        """A trigger deadline's condition or bound, read in the configuration before each step."""
         guards: list[z3.BoolRef] = []
-        cond = self.evaluator(c, guards=guards).scalar(td.condition)
+        value = self.evaluator(c, guards=guards).scalar(e)
         if guards:  # they would be the tock's conditions, which the deadline's counting does not carry
-            raise Unsupported(td.condition.pos, _DEADLINE_APPLIES)
-        return z3.And(located, cond)
+            raise Unsupported(e.pos, _DEADLINE_APPLIES)
+        return value
 
     def located(self, c: int, locations: frozenset[int]) -> z3.BoolRef:
         """Component c is at one of `locations`."""
@@ -661,10 +663,7 @@ class TransitionSystem:
             cs.append(z3.Not(self.located(c, comp.automaton.urgent)))
             cs.append(z3.Implies(self.located(c, comp.automaton.deadlined), f[names.deadline(comp.name)] > 0))
             for td in comp.automaton.trigger_deadlines:
-                guards: list[z3.BoolRef] = []
-                bound = self.evaluator(c, guards=guards).scalar(td.bound)
-                if guards:
-                    raise Unsupported(td.bound.pos, _DEADLINE_APPLIES)
+                bound = self._deadline_scalar(c, td.bound)
                 cs.append(z3.Not(z3.And(self.armed(c, td), f[names.armed(comp.name, td.transition)] >= bound)))
         return z3.And(cs)
 
@@ -811,11 +810,3 @@ def check_encodable(network: Network) -> None:
 _DEADLINE_APPLIES = ("a function value applied in a trigger deadline's condition or bound is not encoded yet (that its "
                      "result is in its type would be a condition of each tock)")
 
-
-def _place_type(t: ast.Type, fields: tuple[str, ...]) -> ast.Type:
-    """The type of field path `fields` of a place of type `t` (a record's fields, a tuple's parts)."""
-    for f in fields:
-        part = dict(parts(t)).get(f)
-        assert part is not None, (t, f)
-        t = part
-    return t
