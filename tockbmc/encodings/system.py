@@ -40,6 +40,7 @@ from tockbmc.encodings.values import (
     leaves,
     parts,
     sort_of,
+    stored,
 )
 from tockbmc.model import ast
 from tockbmc.model.config import constant_setting, declaration_key, instance_key, instance_name
@@ -441,7 +442,8 @@ class TransitionSystem:
         bound: dict[int, Value] = {}
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
-            enabled += fits(incoming, e.binds.type)  # `e?x` into a nat x: not a negative value
+            # `e?x` into a nat x: not a negative value (a value of the event's type is in it already)
+            enabled += fits(incoming, e.binds.type, stored([(incoming, e.event.type)] if e.event and e.event.type else []))
         ev = self.evaluator(c, bound, guards=enabled)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
@@ -459,7 +461,8 @@ class TransitionSystem:
         for a in e.updates:
             new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled).value(a.value)
             # the value fits its place (a `nat` not negative), or the step cannot be taken
-            enabled += fits(new, leaf_type(a.variable.type, "".join(f".{f}" for f in a.fields)))
+            known = stored((current[key], self.slots[c][key][1]) for key in self.slots[c] if key in current)
+            enabled += fits(new, leaf_type(a.variable.type, "".join(f".{f}" for f in a.fields)), known)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)

@@ -187,14 +187,28 @@ def initially(v: Value, t: ast.Type, expr: ast.Expr, ev: Evaluator, ranges: Rang
     return [equal(v, ev.value(expr)), *fits(v, t)]
 
 
-def fits(v: Value, t: ast.Type) -> list[z3.BoolRef]:
+# Terms already known to be values of a type (a place's value before the step: `Stored.of`), by
+# Z3's id of the term, with the term kept alive beside its type.
+Stored = dict[int, tuple[z3.ExprRef, ast.Type]]
+
+
+def stored(values: Iterable[tuple[Value, ast.Type]]) -> Stored:
+    """`fits`'s table of the values places hold, each in its place's type already."""
+    out: Stored = {}
+    for v, t in values:
+        for path, term in leaves(v):
+            out[term.get_id()] = (term, leaf_type(t, path))
+    return out
+
+
+def fits(v: Value, t: ast.Type, known: Stored | None = None) -> list[z3.BoolRef]:
     """That a value the model computes may be stored in a place of type `t`: a `nat` is not
-    negative, in a record's fields, a tuple's parts and an enumeration literal's parameters too
-    (as the explicit engine's `_fits`; a sequence's or set's items are not checked: that needs a
-    quantifier, docs/semantics.md §10)."""
+    negative, in a record's fields, a tuple's parts, an enumeration literal's parameters and a
+    sequence's or set's items too (as the explicit engine's `_fits`). `known` holds values already
+    of their type, which a new sequence or set built from them need not check again."""
     if parts(t):
         assert isinstance(v, dict)
-        return [c for f, ft in parts(t) for c in fits(v[f], ft)]
+        return [c for f, ft in parts(t) for c in fits(v[f], ft, known)]
     if t == ast.NAT:
         assert isinstance(v, z3.ArithRef)
         return [v >= 0]
@@ -206,7 +220,55 @@ def fits(v: Value, t: ast.Type) -> list[z3.BoolRef]:
             if inner:
                 out.append(z3.Implies(sort.recognizer(i)(v), z3.And(inner)))
         return out
+    if isinstance(t, (ast.SeqType, ast.SetType)) and _checked(t.element):
+        assert isinstance(v, z3.ExprRef)
+        return _items_fit(v, t, known or {})
     return []
+
+
+def _checked(t: ast.Type) -> bool:
+    """Whether some value of `t`'s sort is not a value of `t` for `fits`."""
+    if t == ast.NAT:
+        return True
+    if isinstance(t, (ast.SeqType, ast.SetType)):
+        return _checked(t.element)
+    if isinstance(t, ast.EnumType):
+        return any(_checked(pt) for params in t.params for pt in params)
+    return any(_checked(ft) for _, ft in parts(t))
+
+
+def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored) -> list[z3.BoolRef]:
+    """`fits` for a sequence or set: by the term's make (a concatenation's parts, a unit's item, a
+    set with one more item, …) down to values already of the type, where the items are checked
+    one by one; otherwise by a quantifier over its items."""
+    kind = v.decl().kind() if z3.is_app(v) else None
+    args = v.children()
+    if v.get_id() in known and known[v.get_id()][1] == t:
+        return []
+    if kind == z3.Z3_OP_SEQ_EMPTY or (kind == z3.Z3_OP_CONST_ARRAY and z3.is_false(args[0])):
+        return []
+    if kind == z3.Z3_OP_UNINTERPRETED and v.decl().name() == UPDATE_OUTSIDE:
+        return []  # `s[i] = e` outside 1..#s: any sequence of s's type (a run resting on it is weighed)
+    if kind == z3.Z3_OP_SEQ_UNIT:
+        return fits(unpack(args[0], t.element), t.element, known)
+    if kind in (z3.Z3_OP_SEQ_CONCAT, z3.Z3_OP_SET_UNION):
+        return [c for a in args for c in _items_fit(a, t, known)]
+    if kind in (z3.Z3_OP_SEQ_EXTRACT, z3.Z3_OP_SET_DIFFERENCE):
+        return _items_fit(args[0], t, known)
+    if kind == z3.Z3_OP_ITE:
+        then, other = _items_fit(args[1], t, known), _items_fit(args[2], t, known)
+        return [z3.If(args[0], z3.And(then), z3.And(other))] if then or other else []
+    if kind == z3.Z3_OP_STORE and isinstance(t, ast.SetType) and z3.is_bool(args[2]):
+        item = fits(unpack(args[1], t.element), t.element, known)
+        added = [] if z3.is_false(args[2]) else [z3.Implies(args[2], z3.And(item))] if item else []
+        return _items_fit(args[0], t, known) + added
+    if isinstance(t, ast.SeqType):
+        i = z3.FreshInt("item")
+        inner = fits(unpack(v[i], t.element), t.element)
+        return [z3.ForAll([i], z3.Implies(z3.And(i >= 0, i < z3.Length(v)), z3.And(inner)))]
+    x = z3.FreshConst(sort_of(t.element), "item")
+    inner = fits(unpack(x, t.element), t.element)
+    return [z3.ForAll([x], z3.Implies(z3.IsMember(x, v), z3.And(inner)))]
 
 
 def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
