@@ -39,18 +39,21 @@ RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 STATEMENTS = ["b!x", "x = 0", "x = 1", "x = -x", "wait(1)", "#C", "c", "b!(x + 1)", "op(x)", "c <{1}"]
 CONDITIONS = ["x > 0", "x == 0", "x < 1", "since(C) >= 1", "since(C) < 2", "x != 1"]
 # With `data`: a sequence, a set and a tuple, updated and read, and an input sequence `d` whose
-# length is bounded by a range on its path (`M::d`), as the explicit engine needs one.
+# length is bounded by a range on its path (`M::d`), as the explicit engine needs one; and a
+# sequence and a set of nat, whose items a step may not make negative (docs/semantics.md §10).
 DATA_DECLARATIONS = ["  event d : Seq(int)", "  var s : Seq(int) = <>", "  var u : Set(int) = {}",
-                     "  var p : int * boolean = (| 0, true |)", "  var f : int -> int = lambda k : int @ k + 1"]
+                     "  var p : int * boolean = (| 0, true |)", "  var f : int -> int = lambda k : int @ k + 1",
+                     "  var n : Seq(nat) = <>", "  var w : Set(nat) = {}"]
 DATA_STATEMENTS = ["s = s ^ <x>", "s = tail(s)", "u = union(u, {x})", "u = diff(u, {x, 1})", "p = (| x, not p[2] |)",
                    "x = size(s) - 1", "s = reverse(s) ^ <p[1]>", "b!size(filter(s, u))", "x = p[1]",
                    # lambda (a closure over x), application, s[i] = e, p[k] = e, set comprehensions
                    "f = lambda k : int @ k - x", "x = f(x)", "if size(s) > 0 then s[1] = x end", "p[2] = x > 0",
-                   "u = {k : int | k in u /\\ k != x}", "u = {k : int | k in u @ -k}"]
+                   "u = {k : int | k in u /\\ k != x}", "u = {k : int | k in u @ -k}",
+                   "n = <x> ^ n", "n = tail(n)", "w = union(w, {x + 1})", "n = s", "d?n"]
 DATA_CONDITIONS = ["size(s) < 2", "x in u", "p[2]", "size(s) > 0 /\\ head(s) == x", "s == <>",
                    "subseteq(u, {0, 1})", "exists i : int @ i in u /\\ i > x", "forall i : int | i in u @ i <= p[1]",
                    "elems(s) == u", "p == (| x, true |)", "f(x) > 0", "x in {k : int | k > 0}",
-                   "1 in {k : int | k in u @ k + 1}"]
+                   "1 in {k : int | k in u @ k + 1}", "size(n) > 1", "0 in w", "x in elems(n)"]
 DATA_TRIGGERS = ["d?s", "d.<1>"]
 # With `enums`: an enumeration whose literals take parameters (an algebraic datatype), in a
 # variable and on an event, built, compared and received (ten values with core_int=-1..1).
