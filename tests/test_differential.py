@@ -153,7 +153,8 @@ def _agree(rct: str, assertions: str, ranges: object = None) -> None:
 # that was not; 20263: BMC counted a state as entered only once its entry action had made a step;
 # 100735: a time-only deadlock that BMC shows after a tock the explicit engine need not show;
 # seed8 (with every form and data, its one tick-tock assertion kept): Z3's model defined the
-# monitor's state by a quantified formula, and reading it crashed the report.
+# monitor's state by a quantified formula, and reading it crashed the report; 9101 (data): BMC let
+# `n = <x> ^ n` store -1 in a Seq(nat), where the explicit engine blocks the step (a deadlock).
 FORMER = Path(__file__).parent / "differential_cases"
 
 
