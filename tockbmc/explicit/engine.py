@@ -500,31 +500,43 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
             return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy,
                                timed=q.timed)
 
-        if next(iter(interpreter(True).initial_configs()), None) is None:
-            return result(Verdict.UNKNOWN, NO_START)
-        if q.spec_element is not None:  # the model element on the specification's side
+        def starts() -> bool:
+            """Whether a run of the element, and of the model element on the specification's side
+            if any, starts: a verdict on no run is vacuous (as BMC's `_starts`, asked after the
+            verdict, so that an assertion tockbmc cannot check is `unsupported` either way)."""
+            if next(iter(interpreter(True).initial_configs()), None) is None:
+                return False
+            if q.spec_element is None:
+                return True
             spec = q.spec_element
             spec_setup = config.setup(a, spec.element, spec.settings)
             spec_interp = Interpreter(spec.element, ranges_dict(spec_setup.ranges), python_settings(spec_setup.constants),
                                       dict(spec.defined), lazy=True, timed=q.timed)
-            if next(iter(spec_interp.initial_configs()), None) is None:
-                return result(Verdict.UNKNOWN, NO_START)
-        # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
-        # greatest fixpoint and the traces the specification lists are searched over every value.
-        if q.inclusion is None or q.goals:  # equals: this direction first
-            lazy = a.kind in LAZY_KINDS and a.semantic_model not in REFUSAL_MODELS  # refusals read every value
-            search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
-            decided = _decide(a, q, search, result)
-            # On to the other direction when this one shows no difference: `equals`, once this one
-            # holds; `is not equal to`, once it is not shown to hold (it holds if either differs).
-            if q.inclusion is None or decided.verdict != Verdict.HOLDS and not a.negated or \
-                    a.negated and decided.verdict == Verdict.HOLDS:
-                return decided
+            return next(iter(spec_interp.initial_configs()), None) is not None
+
+        def decide() -> Result:
+            nonlocal search
+            # Lazy where the verdict reads one node at a time (DESIGN.md, "Lazy inputs"); a deadlock's
+            # greatest fixpoint and the traces the specification lists are searched over every value.
+            if q.inclusion is None or q.goals:  # equals: this direction first
+                lazy = a.kind in LAZY_KINDS and a.semantic_model not in REFUSAL_MODELS  # refusals read every value
+                search = Search(interpreter(lazy), q, bound, max_states, deadline, progress)
+                decided = _decide(a, q, search, result)
+                # On to the other direction when this one shows no difference: `equals`, once this one
+                # holds; `is not equal to`, once it is not shown to hold (it holds if either differs).
+                if q.inclusion is None or decided.verdict != Verdict.HOLDS and not a.negated or \
+                        a.negated and decided.verdict == Verdict.HOLDS:
+                    return decided
+                search = Search(interpreter(False), q, bound, max_states, deadline, progress)
+                other = _included(a, q, search, result)
+                return other if other.verdict == Verdict.HOLDS or decided.verdict != Verdict.UNKNOWN else decided
             search = Search(interpreter(False), q, bound, max_states, deadline, progress)
-            other = _included(a, q, search, result)
-            return other if other.verdict == Verdict.HOLDS or decided.verdict != Verdict.UNKNOWN else decided
-        search = Search(interpreter(False), q, bound, max_states, deadline, progress)
-        return _included(a, q, search, result)
+            return _included(a, q, search, result)
+
+        decided = decide()
+        if decided.verdict in (Verdict.HOLDS, Verdict.VIOLATED) and not starts():
+            return result(Verdict.UNKNOWN, NO_START)
+        return decided
     except Unsupported as exc:
         return result(Verdict.UNSUPPORTED, exc.reason)
     except NotInterpretable as exc:
