@@ -28,6 +28,8 @@ from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
 from tockbmc.encodings.values import (
     Evaluator,
+    Flags,
+    Origin,
     Ranges,
     Value,
     as_type,
@@ -211,7 +213,7 @@ class TransitionSystem:
             env.update(extra)
         name = self.components[c].name
         clocks = {clock: self.cur[names.clock(name, clock)] for clock in self.components[c].automaton.clocks}
-        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges, guards)
+        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges, guards, _origins(self._flags(c)))
 
     # ------------------------------------------------------------ event labels (CSP's view)
 
@@ -320,12 +322,37 @@ class TransitionSystem:
                     self.initial[base] = (v.type, decl.initial, c, declaration_key(decl))
             self.slots[c] = slots
             self.constants[c] = consts
+        self._declare_unset()
         for link in self.network.links:
             if link.asynchronous:
                 self._slot(names.buffer_full(link.index), z3.BoolSort())
                 t = _end_event(link).type
                 if t is not None:
                     self._scalars(names.buffer_value(link.index), t)
+
+    def _declare_unset(self) -> None:
+        """A flag for each function-typed part of a variable that has no initial value but that
+        the model assigns: true while the part is still the function chosen at the start (whose
+        results are in their type at every point), false once the model has stored another (a
+        lambda, whose results are in their type where a step applies it: `values.Unset`)."""
+        self.unset: dict[str, dict[str, str]] = {}  # variable's slot -> function part's path -> flag's slot
+        for c, comp in enumerate(self.components):
+            for e in comp.automaton.edges:
+                for a in e.updates:
+                    if id(a.variable) not in self.slots[c]:
+                        continue
+                    base, t = self.slots[c][id(a.variable)]
+                    if self.initial[base][1] is not None or base in self.unset:
+                        continue
+                    paths = [path for path, _ in leaves(fresh("probe", t))
+                             if isinstance(leaf_type(t, path), ast.FunctionType)]
+                    if paths:
+                        self.unset[base] = {path: self._slot(f"{base}{path}!unset", z3.BoolSort()) for path in paths}
+
+    def _flags(self, c: int) -> dict[int, dict[str, z3.BoolRef]]:
+        """The `unset` flags of component c's variables before the template step, by id(Variable)."""
+        return {key: {path: self.cur[flag] for path, flag in self.unset[base].items()}  # type: ignore[misc]
+                for key, (base, _t) in self.slots[c].items() if base in self.unset}
 
     def shared_key(self, c: int, v: ast.Variable) -> str | None:
         """The scope key under which component c shares a variable or constant it requires, if it does."""
@@ -455,21 +482,26 @@ class TransitionSystem:
         sent = ev.value(e.value) if e.kind == "out" and e.value is not None else None
         for arg in e.args:  # a call's arguments are its label's values (`label_values`): their conditions
             ev.value(arg)
-        # Updates in order, each reading the values the previous ones wrote.
+        # Updates in order, each reading the values (and `unset` flags) the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
+        flags = self._flags(c)
         for a in e.updates:
-            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled).value(a.value)
+            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled,
+                            _origins(flags)).value(a.value)
             # the value fits its place (a `nat` not negative), or the step cannot be taken
             known = stored((current[key], self.slots[c][key][1]) for key in self.slots[c] if key in current)
-            enabled += fits(new, leaf_type(a.variable.type, "".join(f".{f}" for f in a.fields)), known)
+            path = "".join(f".{f}" for f in a.fields)
+            enabled += fits(new, leaf_type(a.variable.type, path), known)
             key = id(a.variable)
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
+            self._set_unset(c, key, path, False, flags, post)
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
             base, t = self.slots[c][id(v)]
             value = self.input(names.fresh_value(base), t)
             choose += domain(value, t, self.ranges, base)
             current[id(v)] = value
+            self._set_unset(c, id(v), "", True, flags, post)  # a function chosen afresh
         for key, (base, _t) in self.slots[c].items():
             if key in bound or any(id(a.variable) == key for a in e.updates) or any(id(v) == key for v in e.havoc):
                 for path, term in leaves(current[key]):
@@ -574,6 +606,15 @@ class TransitionSystem:
     def _buffer(self, link: Link) -> Value | None:
         t = _end_event(link).type
         return None if t is None else self.value(names.buffer_value(link.index), t)
+
+    def _set_unset(self, c: int, key: int, path: str, chosen: bool, flags: dict[int, dict[str, z3.BoolRef]],
+                   post: dict[str, z3.ExprRef]) -> None:
+        """After a step writes the part at `path` of variable `key`: the `unset` flags of the
+        function-typed parts within it are `chosen`, for the rest of the step and after it."""
+        base = self.slots[c][key][0]
+        for part, flag in self.unset.get(base, {}).items():
+            if part.startswith(path):
+                flags[key][part] = post[flag] = z3.BoolVal(chosen)
 
     def _write(self, link: Link, value: Value, post: dict[str, z3.ExprRef]) -> None:
         for path, term in leaves(value):
@@ -683,6 +724,7 @@ class TransitionSystem:
                 cs.append(f[names.wait(comp.name, 1)] == 0)
             cs += [f[names.clock(comp.name, clock)] == 0 for clock in comp.automaton.clocks]
             cs += [f[names.armed(comp.name, td.transition)] == 0 for td in comp.automaton.trigger_deadlines]
+        cs += [f[flag] == z3.BoolVal(True) for parts_ in self.unset.values() for flag in parts_.values()]
         for base, (t, initial, c, key) in self.initial.items():
             value = self.value(base, t)
             if initial is not None:
@@ -788,6 +830,10 @@ class TransitionSystem:
             elif not z3.is_const(t):
                 stack += t.children()
         return reads, writes
+
+
+def _origins(flags: dict[int, dict[str, z3.BoolRef]]) -> dict[int, Origin | Flags]:
+    return {key: Flags(by_path) for key, by_path in flags.items()}
 
 
 def _end_event(link: Link) -> ast.Event:

@@ -8,7 +8,7 @@ enumerations and given types are integers (enumeration literal i is i).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Union
@@ -373,7 +373,25 @@ class _Binder:
 
 CHOSEN = "chosen"  # a function nobody set: any function into its type, whichever step applies it
 MADE = "made"  # a function the model made (a lambda): its results are in their type where applied
-Origin = Union[str, _Binder]  # CHOSEN, MADE, or the quantifier whose variable it is
+
+
+@dataclass(eq=False)
+class Unset:
+    """A function read from a place that has no initial value but that the model assigns: the
+    function chosen at the start (CHOSEN) while `flag` holds, one the model stored (MADE) after."""
+
+    flag: z3.BoolRef
+
+
+@dataclass(eq=False)
+class Flags:
+    """A variable's `Unset` flags (`TransitionSystem`), by the path of each function-typed part
+    (`""` for the variable itself, `.f` for a record's field)."""
+
+    by_path: dict[str, z3.BoolRef]
+
+
+Origin = Union[str, _Binder, Unset]  # CHOSEN, MADE, the quantifier whose variable it is, or Unset
 
 # What a bound scope assumes of a quantifier's function-typed variables (its results in type):
 # each with the quantifier it belongs to, which takes it into its domain.
@@ -400,7 +418,7 @@ class Evaluator:
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
                  clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
-                 guards: list[z3.BoolRef] | None = None, origins: dict[int, Origin] | None = None,
+                 guards: list[z3.BoolRef] | None = None, origins: Mapping[int, Origin | Flags] | None = None,
                  assumed: Assumed | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
@@ -412,28 +430,34 @@ class Evaluator:
         # (a lambda's result reads the configuration). None: with the functions' axioms.
         self.guards = guards
         # Where the function values of names in scope come from (`Origin`, by id(Variable)): a
-        # quantifier's variables, a function's parameters and `let` names of function type.
-        self.origins = origins or {}
+        # quantifier's variables, a function's parameters and `let` names of function type; and
+        # the `Flags` of the variables that have no initial value but are assigned.
+        self.origins: dict[int, Origin | Flags] = dict(origins or {})
         self.assumed = assumed  # inside a quantifier or comprehension: its `_Scope.assumed`
 
-    def _inner(self, env: dict[int, Value], origins: dict[int, Origin] | None = None) -> Evaluator:
+    def _inner(self, env: dict[int, Value], origins: Mapping[int, Origin | Flags] | None = None) -> Evaluator:
         """An evaluator for a nested scope that is evaluated once, where this one is (a `let`)."""
         return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards,
                           {**self.origins, **(origins or {})}, self.assumed)
 
-    def origin(self, e: ast.Expr) -> Origin:
-        """Where the function value `e` comes from: a name's origin if it has one, else a variable
-        or constant without an initial value is any function (CHOSEN), and anything else (a
-        lambda, `override`, a variable with a lambda for its initial value) MADE."""
+    def origin(self, e: ast.Expr, path: str = "") -> Origin:
+        """Where the function value `e` (the part at `path` of it) comes from: a name's origin if
+        it has one, else a variable or constant without an initial value is any function (CHOSEN;
+        `Unset` where the model also assigns it), and anything else (a lambda, `override`, a
+        variable with a lambda for its initial value) MADE."""
         if isinstance(e, ast.FieldRef):  # a record's field, or a tuple's part: the record's origin
-            return self.origin(e.record)
+            return self.origin(e.record, f".{e.field_name}{path}")
         if isinstance(e, ast.Index) and isinstance(e.value.type, ast.ProductType):
-            return self.origin(e.value)
+            return self.origin(e.value, f".{e.index.value}{path}" if isinstance(e.index, ast.Literal) else path)
         if not isinstance(e, ast.VarRef):
             return MADE
         var = e.variable
-        if id(var) in self.origins:
-            return self.origins[id(var)]
+        found = self.origins.get(id(var))
+        if isinstance(found, Flags):
+            flag = found.by_path.get(path)
+            return CHOSEN if flag is None else Unset(flag)
+        if found is not None:
+            return found
         return CHOSEN if var.initial is None and var.kind not in ("bound", "let") else MADE
 
     def _bound_scope(self, env: dict[int, Value], quantified: Iterable[ast.Variable] = ()) -> _Scope:
@@ -563,12 +587,18 @@ class Evaluator:
             # A result is a value of its type. Of a function nobody set (CHOSEN) that is what the
             # environment chose, at every step; of a quantifier's variable (`exists f : nat -> nat
             # @ f(0) == 3`), what the quantifier assumes, as of its domain; of one the model made
-            # (a lambda), a condition of the step that applies it.
+            # (a lambda), a condition of the step that applies it; of a variable's that may be
+            # either (Unset), the first while its flag holds, and the step's condition too (which
+            # the first makes true).
             origin = self.origin(e.function)
             kept = domain(result, e.type, Ranges(), "result")
             if isinstance(origin, _Binder):
                 assert self.assumed is not None
                 self.assumed += [(origin, c) for c in kept]
+            elif isinstance(origin, Unset):
+                self.side.extend(z3.Implies(origin.flag, c) for c in kept)
+                if self.guards is not None:  # else read outside a step (an initial value: flag true)
+                    self.guards.extend(kept)
             else:
                 (self.side if origin == CHOSEN or self.guards is None else self.guards).extend(kept)
             return result
