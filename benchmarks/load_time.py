@@ -7,6 +7,7 @@ IntelliWelder example; asserts nothing.
 
 from __future__ import annotations
 
+import argparse
 import sys
 import tempfile
 import time
@@ -55,4 +56,8 @@ def main(sizes: list[int]) -> None:
 
 
 if __name__ == "__main__":
-    main([int(a) for a in sys.argv[1:]] or [1_000, 10_000, 50_000])
+    parser = argparse.ArgumentParser(description="How long tockbmc.load takes on generated projects of growing "
+                                                 "size (best of 3 loads each), and on the IntelliWelder example.")
+    parser.add_argument("lines", nargs="*", type=int, default=[1_000, 10_000, 50_000],
+                        help="sizes of the generated projects, in lines (default: 1000 10000 50000)")
+    main(parser.parse_args().lines)

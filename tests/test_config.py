@@ -286,6 +286,10 @@ def test_range_names_must_exist(tmp_path: Path, name: str, low: int, high: int, 
     (["--range", "core_int=2..1"], "LO <= HI"),
     (["--range", "core_itn=0..1"], "did you mean 'core_int'"),
     (["--param", "UR::n_waypoint"], "did you mean 'UR::n_waypoints'"),
+    # session 17: the last value had been taken silently
+    (["--set", "UR::n_waypoints=1", "--set", "UR::n_waypoints=2"], "UR::n_waypoints is given two values, 1 and 2"),
+    (["-a", "A11"], "no assertion named 'A11'; did you mean 'A1'? (known: A1, A2"),
+    (["-a", "a5"], "did you mean 'A5'?"),
 ])
 def test_usage_errors_exit_2_with_a_suggestion(args: list[str], text: str) -> None:
     out = run_cli(["check", str(EXAMPLE), "-a", "A5", *args])

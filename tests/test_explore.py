@@ -243,3 +243,13 @@ def test_functions_without_a_body_make_regions_unsupported(tmp_path: Path) -> No
     (tmp_path / "m.assertions").write_text("assertion R1: f is reachable in U.\nassertion R2: U is deadlock-free.\n")
     for e in explore(tockbmc.load(tmp_path), ranges={"core_int": Range(Fraction(-1), Fraction(1))}, timeout=60):
         assert e.status == "unsupported" and "functions without a body (g)" in e.reason, e
+
+
+def test_a_model_without_assertions_explores_the_core_assertions(tmp_path: Path) -> None:
+    """As `check` does (session 17: it had printed `parameters: none` and nothing else)."""
+    (tmp_path / "m.rct").write_text("stm M {\n  initial i\n  state s {}\n  transition t0 { from i to s }\n}\n")
+    out = CliRunner().invoke(cli, ["explore", str(tmp_path), "--format", "json"])
+    assert out.exception is None or isinstance(out.exception, SystemExit), out.output
+    assert "exploring RoboTool's core assertions" in out.stderr
+    names = [e["assertion"] for e in json.loads(out.stdout)["explorations"]]
+    assert names == ["M_deadlock_free", "M_deterministic", "M_divergence_free", "M_timelock_free"]

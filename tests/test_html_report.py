@@ -276,3 +276,10 @@ def test_step_table_shows_the_source_when_there_is_one() -> None:
     assert [(td.all_text(), td.attrs["title"]) for td in cells] == [("m.rct:3:5", "/models/m.rct:3:5")]
     plain = page((_step(1, "event", "M::e.in", "t1", {"M": "s"}, {}, ("M::e", "in")),))
     assert "Source" not in [th.all_text() for th in plain.iter("th")]
+
+
+def test_a_report_in_a_directory_that_does_not_exist_is_a_usage_error(tmp_path: Path) -> None:
+    """Refused before the check (it had been an internal error after it, the verdicts lost)."""
+    outcome = run_cli(["check", str(EXAMPLE), "-a", "A7", "--report", str(tmp_path / "missing" / "r.html")])
+    assert outcome.exit_code == 2 and outcome.crash is None, outcome.output
+    assert "no directory" in outcome.output

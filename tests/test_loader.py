@@ -590,6 +590,10 @@ def test_file_with_another_suffix(tmp_path: Path) -> None:
     ]
 
 
+def test_a_path_that_does_not_exist(tmp_path: Path) -> None:
+    assert located(load_error(tmp_path / "missing.rct")) == [("missing.rct", 1, 1, "no such file or directory")]
+
+
 def test_file_and_directory_naming_the_same_file(tmp_path: Path) -> None:
     write_files(tmp_path, {"a.rct": PACKAGE_P})
     project = load(tmp_path, tmp_path / "a.rct")

@@ -92,3 +92,9 @@ controller C {
     wide = ["--range", "core_int=-1000000000000..1000000000000"]
     out, seconds = simulate(write_files(tmp_path, {"m.rct": rct}), "--element", "C", "--steps", "8", *wide)
     assert "M: call Op()" in out and "M: l := " in out and seconds < 10
+
+
+def test_an_unknown_element_is_a_usage_error_with_the_closest_name() -> None:
+    out = run_cli(["simulate", str(EXAMPLE), "--element", "EXAXX"])
+    assert out.exit_code == 2 and out.crash is None, out.output
+    assert "did you mean 'EXAX'?" in out.output and "known:" in out.output

@@ -13,6 +13,7 @@ import stat
 import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import NoReturn, TypeVar
 
 import click
@@ -123,8 +124,20 @@ def _settings(specs: tuple[str, ...]) -> dict[str, str]:
         name, sep, text = spec.partition("=")
         if not sep or not name or not text:
             raise click.BadParameter(f"'{spec}': expected NAME=VALUE", param_hint="'--set'")
+        if result.get(name, text) != text:
+            raise click.BadParameter(f"{name} is given two values, {result[name]} and {text}", param_hint="'--set'")
         result[name] = text
     return result
+
+
+def _known_assertions(project: Project, names: tuple[str, ...]) -> None:
+    """A usage error, with the closest name and the known ones, for a name `-a` gives that no
+    assertion has."""
+    known = sorted({a.name for a in project.assertions})
+    for n in names:
+        if n not in known:
+            raise click.BadParameter(f"no assertion named '{n}'{suggestion(n, known)} (known: "
+                                     f"{', '.join(known) or 'none'})", param_hint="'-a'")
 
 
 def _range_hint(exc: Unbounded, config: Configuration) -> str:
@@ -162,6 +175,18 @@ def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> 
     return value
 
 
+def _report_file(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """`--report`'s file goes in a directory that exists and may be written, which is checked before
+    the assertions are decided (`click.Path` checks an existing file only)."""
+    if value is not None:
+        folder = Path(value).resolve().parent
+        if not folder.is_dir():
+            raise click.BadParameter(f"'{value}': no directory {folder}")
+        if not os.access(folder, os.W_OK):
+            raise click.BadParameter(f"'{value}': directory {folder} is not writable")
+    return value
+
+
 def default_jobs() -> int:
     """The number of cores.  Measured on two cores, idle, RoboTool's suite (`benchmarks/conformance.py
     --timeout 20`): 107 s with `-j 2` against 200 s with `-j 1` (session 7), since many checks
@@ -179,8 +204,9 @@ def default_jobs() -> int:
                    "NAME=unbounded lifts it.")
 @click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE",
               help="Give a constant a value (NAME: n, UR::n, main::ctrl::ur_ref::n, …); overrides the instantiation. "
-                   "A path names the declaration: every instance of the machine gets the value (one instance's "
-                   "own value: `with constant … of ctrl::stm_ref` or the instantiation).")
+                   "A name qualified by its element (UR::n) sets every instance of the machine; a path of "
+                   "instances (main::ctrl::ur_ref::n) sets that instance's constant only, and wins over the "
+                   "element's name for it.")
 @click.option("--param", "param_specs", multiple=True, metavar="NAME",
               help="Make a constant without a value a parameter: every value of its type and range is considered.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
@@ -199,6 +225,7 @@ def default_jobs() -> int:
                                            "module (deadlock-free, deterministic, divergence-free, timelock-free); "
                                            "a model without assertions gets them anyway.")
 @click.option("--report", "report_path", type=click.Path(dir_okay=False, writable=True), default=None,
+              callback=_report_file,
               metavar="FILE.html", help="Also write the results as one self-contained HTML page: the verdict table, "
                                         "the scope, and each trace as a sequence diagram beside its steps.")
 @click.option("-j", "--jobs", type=click.IntRange(1), default=None, metavar="N",
@@ -235,11 +262,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             click.echo("tockbmc: the model has no assertions: checking RoboTool's core assertions", err=True)
         project = dataclasses.replace(project, assertions=project.assertions + core_assertions(project))
     config = _configure(project, range_specs, set_specs, param_specs)
-    known = {a.name for a in project.assertions}
-    for n in names:
-        if n not in known:
-            raise click.BadParameter(f"no assertion named '{n}' (known: {', '.join(sorted(known)) or 'none'})",
-                                     param_hint="'-a'")
+    _known_assertions(project, names)
     selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
     results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,
                                dask_address)
@@ -380,10 +403,10 @@ def explore(paths: tuple[str, ...], names: tuple[str, ...], param_specs: tuple[s
 
     ranges, settings = _ranges(range_specs), _settings(set_specs)
     project = _load(paths, fmt)
-    known = {a.name for a in project.assertions}
-    for n in names:
-        if n not in known:
-            raise click.BadParameter(f"no assertion named '{n}'{suggestion(n, sorted(known))}", param_hint="'-a'")
+    if not project.assertions:  # as `check` does
+        click.echo("tockbmc: the model has no assertions: exploring RoboTool's core assertions", err=True)
+        project = dataclasses.replace(project, assertions=core_assertions(project))
+    _known_assertions(project, names)
     found: list[Exploration] = []
     console = _stdout_console()
     try:
@@ -409,7 +432,8 @@ def explore(paths: tuple[str, ...], names: tuple[str, ...], param_specs: tuple[s
 @click.option("--steps", type=click.IntRange(0), default=30, show_default=True, help="Steps to take.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random choices.")
 @click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI",
-              help="Range of a type or path the environment's values come from (needed for inputs).")
+              help="Bound a type or path the environment's values come from (a type without one: RoboTool's "
+                   "default range, core_int=-2..2, …).")
 @click.option("--set", "set_specs", multiple=True, metavar="NAME=VALUE", help="Give a constant a value.")
 def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int, range_specs: tuple[str, ...],
              set_specs: tuple[str, ...]) -> None:

@@ -9,6 +9,7 @@ from fractions import Fraction
 from tockbmc.explicit.engine import python_settings, ranges_dict
 from tockbmc.explicit.interpreter import Interpreter, Sampler, Step
 from tockbmc.model import ast
+from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.numbers import real_text
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
@@ -27,7 +28,8 @@ def pick(project: ast.Project, name: str | None) -> ast.StateMachine | ast.Contr
             if name in (item.name, item.qname) or item.qname.endswith("::" + name):
                 return item
     known = [item.name for group in groups for item in group]
-    raise LookupError(f"no machine, controller or module named '{name}' (known: {', '.join(known)})")
+    raise LookupError(f"no machine, controller or module named '{name}'{suggestion(name, known)} "
+                      f"(known: {', '.join(known)})")
 
 
 # Where a type with no range takes its values in a random run: RoboTool's default ranges, and

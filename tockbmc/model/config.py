@@ -978,14 +978,14 @@ class Configuration:
                     else:
                         defined[id(f)] = body.define(f, ds)
                 elif name.startswith("const_"):
-                    self._warn(d.pos, f"no constant of the model is named '{name}' by RoboTool"
-                                      f"{suggestion(name, list(slots_by_name))}; it is not used")
+                    self._warn(d.pos, f"no constant of the model is named '{name}' by RoboTool, so it is not "
+                                      f"used{suggestion(name, list(slots_by_name))}")
                 elif name in _ROBOTOOL_HELPERS or name.endswith("_BOUND") or name in referenced:
                     continue
                 else:
                     known = [*functions, *types, *CORE_TYPES]
-                    self._warn(d.pos, f"'{name}' is not a constant, type or function of the model"
-                                      f"{suggestion(name, known)}; it is not used")
+                    self._warn(d.pos, f"'{name}' is not a constant, type or function of the model, so it is "
+                                      f"not used{suggestion(name, known)}")
             except inst.NotUnderstood as exc:
                 if name in functions:
                     self._warn(exc.pos, f"unsupported: {exc.what}; function {functions[name].name} stays "

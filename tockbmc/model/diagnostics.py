@@ -37,7 +37,8 @@ def _order(d: Diagnostic) -> tuple[str, int, int]:
 def suggestion(name: str, known: Iterable[str]) -> str:
     """`; did you mean 'x'?` for the closest known name, or ''."""
     candidates = sorted(set(known) - {name})
-    match = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+    match = [c for c in candidates if c.lower() == name.lower()][:1] or \
+        difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
     if not match:
         short = name.rsplit("::", 1)[-1]
         by_short = {c.rsplit("::", 1)[-1]: c for c in candidates}

@@ -42,7 +42,10 @@ def load(*paths: str | os.PathLike[str]) -> Project:
     for f in files:
         name = str(f)
         kind = SUFFIXES.get(f.suffix)
-        if f.exists() and not f.is_file():  # a FIFO or a device would block or never end
+        if not f.exists():
+            diagnostics.append(Diagnostic(Pos(name, 1, 1), "no such file or directory"))
+            continue
+        if not f.is_file():  # a FIFO or a device would block or never end
             diagnostics.append(Diagnostic(Pos(name, 1, 1), "not a regular file: expected a .rct or .assertions file"))
             continue
         if kind is None:
