@@ -36,8 +36,10 @@ from tockbmc.encodings.values import (
     domain,
     equal,
     fits,
+    folds,
     fresh,
     initially,
+    kept_items,
     leaf_type,
     leaves,
     parts,
@@ -323,6 +325,7 @@ class TransitionSystem:
             self.slots[c] = slots
             self.constants[c] = consts
         self._declare_unset()
+        self._kept: set[str] = set()  # variables whose items are kept in type by an axiom (`_keep_items`)
         for link in self.network.links:
             if link.asynchronous:
                 self._slot(names.buffer_full(link.index), z3.BoolSort())
@@ -348,6 +351,20 @@ class TransitionSystem:
                              if isinstance(leaf_type(t, path), ast.FunctionType)]
                     if paths:
                         self.unset[base] = {path: self._slot(f"{base}{path}!unset", z3.BoolSort()) for path in paths}
+
+    def _keep_items(self, base: str, t: ast.Type) -> None:
+        """The items of a variable's sequences and sets of `nat` (in records, tuples, …) are of
+        their type in every configuration, as every step that stores one checks (`fits`). For a
+        variable some step gives a fold's value (`reverse`, `filter`), that is an axiom of each
+        step: Z3 does not derive it through the fold (`unknown` on tests/models/review17/filt), and
+        elsewhere it would only add a quantifier (`unknown` on a deadlock of review17/dw's V)."""
+        if base in self._kept:
+            return
+        self._kept.add(base)
+        for path, term in leaves(self.value(base, t)):
+            lt = leaf_type(t, path)
+            if isinstance(lt, (ast.SeqType, ast.SetType)):
+                self.side += kept_items(term, lt)
 
     def _flags(self, c: int) -> dict[int, dict[str, z3.BoolRef]]:
         """The `unset` flags of component c's variables before the template step, by id(Variable)."""
@@ -455,9 +472,10 @@ class TransitionSystem:
 
     # ------------------------------------------------------------ effects of one move
 
-    def _edge(self, c: int, e: Edge, incoming: Value | None, post: dict[str, z3.ExprRef]
+    def _edge(self, c: int, e: Edge, incoming: Value | None, post: dict[str, z3.ExprRef], chosen: str | None = None
               ) -> tuple[list[z3.BoolRef], list[z3.BoolRef], Value | None]:
-        """Component c takes edge e in the template step, receiving `incoming` on an input.
+        """Component c takes edge e in the template step, receiving `incoming` on an input (a value
+        the environment chose on the event at path `chosen`, else one another machine sent).
 
         Returns (conditions fixed by the configuration, constraints on chosen
         values, the value sent on an output); writes the changed scalars into `post`.
@@ -469,8 +487,12 @@ class TransitionSystem:
         bound: dict[int, Value] = {}
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
-            # `e?x` into a nat x: not a negative value (a value of the event's type is in it already)
-            enabled += fits(incoming, e.binds.type, stored([(incoming, e.event.type)] if e.event and e.event.type else []))
+            # `e?x` into a nat x: not a negative value. A value the environment chose is one of the
+            # event's type, within the range of its path (a sequence's length); a value another
+            # machine sent is checked whole.
+            known = stored([(incoming, e.event.type)]) if chosen is not None and e.event and e.event.type else {}
+            r = self.ranges.by_path.get(chosen) if chosen is not None else None
+            enabled += fits(incoming, e.binds.type, known, math.floor(r.high) if r is not None else None)
         ev = self.evaluator(c, bound, guards=enabled)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
@@ -494,6 +516,8 @@ class TransitionSystem:
             path = "".join(f".{f}" for f in a.fields)
             enabled += fits(new, leaf_type(a.variable.type, path), known)
             key = id(a.variable)
+            if folds(new):
+                self._keep_items(*self.slots[c][key])
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
             self._set_unset(c, key, path, False, flags, post)
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
@@ -561,7 +585,7 @@ class TransitionSystem:
                 incoming, dom = self._input(names.input_value(name), e.event, name)
                 choose += dom
                 inputs += [term for _, term in leaves(incoming)]
-            en, ch, _ = self._edge(c, e, incoming, post)
+            en, ch, _ = self._edge(c, e, incoming, post, name if incoming is not None else None)
             enabled += en
             choose += ch
         elif m.role == "sync":

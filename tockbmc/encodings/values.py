@@ -201,11 +201,12 @@ def stored(values: Iterable[tuple[Value, ast.Type]]) -> Stored:
     return out
 
 
-def fits(v: Value, t: ast.Type, known: Stored | None = None) -> list[z3.BoolRef]:
+def fits(v: Value, t: ast.Type, known: Stored | None = None, length: int | None = None) -> list[z3.BoolRef]:
     """That a value the model computes may be stored in a place of type `t`: a `nat` is not
     negative, in a record's fields, a tuple's parts, an enumeration literal's parameters and a
     sequence's or set's items too (as the explicit engine's `_fits`). `known` holds values already
-    of their type, which a new sequence or set built from them need not check again."""
+    of their type, which a new sequence or set built from them need not check again; `length`
+    bounds a sequence's length (its range), whose items are then checked one by one."""
     if parts(t):
         assert isinstance(v, dict)
         return [c for f, ft in parts(t) for c in fits(v[f], ft, known)]
@@ -222,7 +223,7 @@ def fits(v: Value, t: ast.Type, known: Stored | None = None) -> list[z3.BoolRef]
         return out
     if isinstance(t, (ast.SeqType, ast.SetType)) and _checked(t.element):
         assert isinstance(v, z3.ExprRef)
-        return _items_fit(v, t, known or {})
+        return _items_fit(v, t, known or {}, length)
     return []
 
 
@@ -237,10 +238,13 @@ def _checked(t: ast.Type) -> bool:
     return any(_checked(ft) for _, ft in parts(t))
 
 
-def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored) -> list[z3.BoolRef]:
-    """`fits` for a sequence or set: by the term's make (a concatenation's parts, a unit's item, a
-    set with one more item, …) down to values already of the type, where the items are checked
-    one by one; otherwise by a quantifier over its items."""
+def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored,
+               length: int | None = None) -> list[z3.BoolRef]:
+    """`fits` for a sequence or set, by how the term was built: a concatenation's or union's
+    parts, a unit's item, a set with an item added, an `If`'s branches, each checked down to values
+    already of the type; a part of one value (a slice, a difference, a set without an item, a
+    reverse or filter: folds that only move items) needs no check where that value needs none.
+    Otherwise by a quantifier over the items (one by one, within `length`)."""
     kind = v.decl().kind() if z3.is_app(v) else None
     args = v.children()
     if v.get_id() in known and known[v.get_id()][1] == t:
@@ -248,27 +252,78 @@ def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored) -> li
     if kind == z3.Z3_OP_SEQ_EMPTY or (kind == z3.Z3_OP_CONST_ARRAY and z3.is_false(args[0])):
         return []
     if kind == z3.Z3_OP_UNINTERPRETED and v.decl().name() == UPDATE_OUTSIDE:
-        return []  # `s[i] = e` outside 1..#s: any sequence of s's type (a run resting on it is weighed)
+        return []  # `s[i] = e` outside 1..#s: any sequence of s's type (`_update`'s axiom keeps it so)
     if kind == z3.Z3_OP_SEQ_UNIT:
         return fits(unpack(args[0], t.element), t.element, known)
     if kind in (z3.Z3_OP_SEQ_CONCAT, z3.Z3_OP_SET_UNION):
         return [c for a in args for c in _items_fit(a, t, known)]
-    if kind in (z3.Z3_OP_SEQ_EXTRACT, z3.Z3_OP_SET_DIFFERENCE):
-        return _items_fit(args[0], t, known)
     if kind == z3.Z3_OP_ITE:
         then, other = _items_fit(args[1], t, known), _items_fit(args[2], t, known)
         return [z3.If(args[0], z3.And(then), z3.And(other))] if then or other else []
-    if kind == z3.Z3_OP_STORE and isinstance(t, ast.SetType) and z3.is_bool(args[2]):
-        item = fits(unpack(args[1], t.element), t.element, known)
-        added = [] if z3.is_false(args[2]) else [z3.Implies(args[2], z3.And(item))] if item else []
-        return _items_fit(args[0], t, known) + added
+    added = kind == z3.Z3_OP_STORE and isinstance(t, ast.SetType) and z3.is_true(args[2])
+    if added:
+        return _items_fit(args[0], t, known) + fits(unpack(args[1], t.element), t.element, known)
+    removed = kind == z3.Z3_OP_STORE and isinstance(t, ast.SetType) and z3.is_false(args[2])
+    if (kind in (z3.Z3_OP_SEQ_EXTRACT, z3.Z3_OP_SET_DIFFERENCE) or removed) and not _items_fit(args[0], t, known):
+        return []
+    if kind == z3.Z3_OP_SET_INTERSECT and any(not _items_fit(a, t, known) for a in args):
+        return []
+    if kind in (z3.Z3_OP_SEQ_FOLDL, z3.Z3_OP_SEQ_FOLDLI) and _moves_items(args[0]) and \
+            not _items_fit(args[-1], t, known):
+        return _items_fit(args[-2], t, known)  # the items of the start value and of the folded one
+    return _every_item(v, t, length)
+
+
+def folds(v: Value) -> bool:
+    """Whether a value's terms fold a sequence (`reverse`, `filter`, `extract`, …)."""
+    seen: set[int] = set()
+    stack = [term for _, term in leaves(v)]
+    while stack:
+        t = stack.pop()
+        if t.get_id() in seen:
+            continue
+        seen.add(t.get_id())
+        if z3.is_app(t) and t.decl().kind() in (z3.Z3_OP_SEQ_FOLDL, z3.Z3_OP_SEQ_FOLDLI):
+            return True
+        stack += t.children()
+    return False
+
+
+def kept_items(v: z3.ExprRef, t: ast.SeqType | ast.SetType) -> list[z3.BoolRef]:
+    """That every item of a sequence or set `v` of type `t` is of its item's type (for `fits`:
+    `nat` items not negative), none where every value of the sort is."""
+    return _every_item(v, t) if _checked(t.element) else []
+
+
+def _every_item(v: z3.ExprRef, t: ast.SeqType | ast.SetType, length: int | None = None) -> list[z3.BoolRef]:
+    """That every item of `v` fits `t`'s item type: one by one within `length`, else a quantifier."""
     if isinstance(t, ast.SeqType):
+        if length is not None and length < UNROLLED_LENGTH:
+            return [z3.Implies(z3.Length(v) > k, z3.And(fits(unpack(v[k], t.element), t.element)))
+                    for k in range(max(0, length))]
         i = z3.FreshInt("item")
         inner = fits(unpack(v[i], t.element), t.element)
         return [z3.ForAll([i], z3.Implies(z3.And(i >= 0, i < z3.Length(v)), z3.And(inner)))]
     x = z3.FreshConst(sort_of(t.element), "item")
     inner = fits(unpack(x, t.element), t.element)
     return [z3.ForAll([x], z3.Implies(z3.IsMember(x, v), z3.And(inner)))]
+
+
+def _moves_items(f: z3.ExprRef) -> bool:
+    """Whether a fold's function `lambda (i,) acc, x @ …` only puts items `x` into the accumulator
+    (`reverse`, `filter`, `extract`): its result's items are the start value's and the sequence's."""
+    def moves(b: z3.ExprRef) -> bool:
+        if z3.is_var(b):
+            return z3.get_var_index(b) == 1  # the accumulator
+        kind = b.decl().kind() if z3.is_app(b) else None
+        if kind == z3.Z3_OP_SEQ_UNIT:
+            return z3.is_var(b.arg(0)) and z3.get_var_index(b.arg(0)) == 0  # the item
+        if kind == z3.Z3_OP_SEQ_CONCAT:
+            return all(moves(c) for c in b.children())
+        if kind == z3.Z3_OP_ITE:
+            return moves(b.arg(1)) and moves(b.arg(2))
+        return kind == z3.Z3_OP_SEQ_EMPTY
+    return z3.is_quantifier(f) and f.is_lambda() and moves(f.body())
 
 
 def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]:
@@ -569,7 +624,10 @@ class Evaluator:
                 isinstance(e, ast.Builtin) and e.op in ("head", "last"):
             self._item_outside(e, operands)
         if isinstance(e, (ast.SeqLiteral, ast.SetLiteral, ast.TupleLiteral, ast.Index, ast.Builtin)):
-            return _collection(e, operands)
+            value = _collection(e, operands)
+            if isinstance(e, ast.Builtin) and e.op == "update":
+                self._update_outside(e, value)
+            return value
         if isinstance(e, ast.Let):
             [bound] = operands
             origins = {id(e.variable): self.origin(e.value)} if isinstance(e.variable.type, ast.FunctionType) else {}
@@ -626,6 +684,15 @@ class Evaluator:
         kept = domain(unpack(seq[at - 1], t), t, given_types(self.ranges), "item")
         if kept:
             self.side.append(z3.Implies(z3.Not(z3.And(at >= 1, at <= z3.Length(seq))), z3.And(kept)))
+
+    def _update_outside(self, e: ast.Builtin, value: Value) -> None:
+        """`s[i] = v` outside 1..#s is any sequence of s's type: an axiom keeps the items of that
+        uninterpreted value (`UPDATE_OUTSIDE`, the `If`'s last branch) in their type, so that a step
+        storing it stores a value of its place (`_items_fit` takes it as one)."""
+        t = e.type
+        if isinstance(t, ast.SeqType) and _checked(t.element):
+            assert isinstance(value, z3.ExprRef) and z3.is_app(value) and value.decl().kind() == z3.Z3_OP_ITE
+            self.side += _every_item(value.arg(2), t)
 
     def _call(self, e: ast.Call, args: list[Value]) -> Value:
         f = e.function
