@@ -76,6 +76,17 @@ def both_engines(project: object, ranges: object, bound: int, timeout: float = 6
             check_explicit(project, None, bound, ranges, {}, timeout, config=config))  # type: ignore[arg-type]
 
 
+def verdicts_are(project: object, ranges: object, bound: int, expected: dict[str, str],
+                 explicit: bool = True) -> tuple[list, list]:
+    """Both engines' verdicts on a project (`both_engines`) are `expected`: BMC's, and the explicit
+    engine's unless `explicit` is false (it cannot apply a function nobody set)."""
+    bmc, by_search = both_engines(project, ranges, bound, timeout=30)
+    assert {r.assertion: r.verdict for r in bmc} == expected, [r.reason for r in bmc]
+    if explicit:
+        assert {r.assertion: r.verdict for r in by_search} == expected, [r.reason for r in by_search]
+    return bmc, by_search
+
+
 def load_generator() -> ModuleType:
     """`benchmarks/generate.py`, imported by path (benchmarks/ is not a package)."""
     return _load_benchmark("tockbmc_benchmarks_generate", GENERATOR)
