@@ -61,3 +61,21 @@ def test_an_update_outside_the_sequence_is_a_sequence_of_its_type() -> None:
     the explicit engine does not interpret the update)."""
     [r] = check(load(MODELS / "upd2"), bound=6, timeout=30)
     assert r.verdict == "holds", r.reason
+
+
+# A review of the flags of function-typed variables (session 17), BMC only: the interpreter does
+# not apply a function nobody set, nor these functions' arguments.
+@pytest.mark.parametrize(("case", "expected"), [
+    # `f = g` of a function nobody set stored "made", its results unchecked: a deadlock at `a`
+    ("fv_a1", {"D": "holds"}),
+    # the same through an operation's parameter, `ap(g)`
+    ("fv_o3", {"D": "holds"}),
+    # a lambda passed to an uninterpreted function whose postcondition applies it: its result
+    # outside nat had been an axiom of every step (every run impossible, a wrong holds)
+    ("fv_u2", {"R": "violated"}),
+    # ... and as a record argument's field, to a defined function
+    ("fv_u3", {"R": "violated"}),
+])
+def test_function_values(case: str, expected: dict[str, str]) -> None:
+    results = check(load(MODELS / case), bound=8, timeout=30)
+    assert {r.assertion: r.verdict for r in results} == expected, [r.reason for r in results]

@@ -15,6 +15,7 @@ these terms at step k; this module never names a step other than the template.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Callable
@@ -27,10 +28,12 @@ from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge, TriggerDeadline
 from tockbmc.encodings.composition import External, Link, Network, Port
 from tockbmc.encodings.values import (
+    CHOSEN,
     Evaluator,
-    Flags,
     Origin,
+    Parts,
     Ranges,
+    Unset,
     Value,
     as_type,
     domain,
@@ -38,6 +41,7 @@ from tockbmc.encodings.values import (
     fits,
     folds,
     fresh,
+    function_parts,
     initially,
     kept_items,
     leaf_type,
@@ -334,23 +338,52 @@ class TransitionSystem:
                     self._scalars(names.buffer_value(link.index), t)
 
     def _declare_unset(self) -> None:
-        """A flag for each function-typed part of a variable that has no initial value but that
-        the model assigns: true while the part is still the function chosen at the start (whose
-        results are in their type at every point), false once the model has stored another (a
-        lambda, whose results are in their type where a step applies it: `values.Unset`)."""
+        """A flag for each function-typed part of a variable that may hold, at different times, a
+        function nobody set (its initial value where it has none, a copy of such a value, an
+        operation's fresh local) and one the model made (a lambda, `override`, …): true while it
+        holds the first, whose results are in their type at every point, false while it holds the
+        second, whose results are in their type where a step applies it (`values.Unset`). Which
+        variables may hold which is found from the assignments, to a fixpoint."""
+        base_of = {key: base for c in range(len(self.components)) for key, (base, _t) in self.slots[c].items()}
+        chosen = {b for b, (_t, initial, _c, _k) in self.initial.items() if initial is None}
+        made = {b for b, (_t, initial, _c, _k) in self.initial.items() if initial is not None}
+
+        def gives(e: ast.Expr, held: set[str], as_chosen: bool) -> bool:
+            """Whether `e` may give a function of the kind `held` gathers."""
+            if isinstance(e, ast.FieldRef):
+                return gives(e.record, held, as_chosen)
+            if isinstance(e, ast.Index) and isinstance(e.value.type, ast.ProductType):
+                return gives(e.value, held, as_chosen)
+            if isinstance(e, ast.RecordLiteral):
+                return any(gives(x, held, as_chosen) for _, x in e.fields) or as_chosen and bool(e.omitted)
+            if isinstance(e, ast.TupleLiteral):
+                return any(gives(x, held, as_chosen) for x in e.items)
+            if isinstance(e, ast.VarRef):
+                base = base_of.get(id(e.variable))
+                return base in held if base is not None else (e.variable.initial is None) == as_chosen
+            return not as_chosen
+
+        writes = [(base_of[id(a.variable)], a.value) for comp in self.components for e in comp.automaton.edges
+                  for a in e.updates if id(a.variable) in base_of]
+        chosen |= {base_of[id(v)] for comp in self.components for e in comp.automaton.edges for v in e.havoc
+                   if id(v) in base_of}
+        grown = True
+        while grown:
+            grown = False
+            for base, value in writes:
+                for held, as_chosen in ((chosen, True), (made, False)):
+                    if base not in held and gives(value, held, as_chosen):
+                        held.add(base)
+                        grown = True
         self.unset: dict[str, dict[str, str]] = {}  # variable's slot -> function part's path -> flag's slot
-        for c, comp in enumerate(self.components):
-            for e in comp.automaton.edges:
-                for a in e.updates:
-                    if id(a.variable) not in self.slots[c]:
-                        continue
-                    base, t = self.slots[c][id(a.variable)]
-                    if self.initial[base][1] is not None or base in self.unset:
-                        continue
-                    paths = [path for path, _ in leaves(fresh("probe", t))
-                             if isinstance(leaf_type(t, path), ast.FunctionType)]
-                    if paths:
-                        self.unset[base] = {path: self._slot(f"{base}{path}!unset", z3.BoolSort()) for path in paths}
+        self.unset_at_start: dict[str, bool] = {}  # variable's slot -> whether it starts with a chosen function
+        for base in sorted(chosen & made):
+            t, initial, _c, _k = self.initial[base]
+            paths = function_parts(t)
+            if paths:
+                self.unset[base] = {path: self._slot(f"{base}{path}!unset", z3.BoolSort()) for path in paths}
+                self.unset_at_start[base] = initial is None or \
+                    gives(initial, chosen, True) and not gives(initial, made, False)
 
     def _keep_items(self, base: str, t: ast.Type) -> None:
         """The items of a variable's sequences and sets of `nat` (in records, tuples, …) are of
@@ -509,8 +542,8 @@ class TransitionSystem:
         current.update(bound)
         flags = self._flags(c)
         for a in e.updates:
-            new = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled,
-                            _origins(flags)).value(a.value)
+            writer = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled, _origins(flags))
+            new = writer.value(a.value)
             # the value fits its place (a `nat` not negative), or the step cannot be taken
             known = stored((current[key], self.slots[c][key][1]) for key in self.slots[c] if key in current)
             path = "".join(f".{f}" for f in a.fields)
@@ -519,13 +552,13 @@ class TransitionSystem:
             if folds(new):
                 self._keep_items(*self.slots[c][key])
             current[key] = _set_field(current[key], a.fields, new) if a.fields else new
-            self._set_unset(c, key, path, False, flags, post)
+            self._set_unset(c, key, path, functools.partial(_chosen_part, writer, a.value), flags, post)
         for v in e.havoc:  # any value of its type and range (an operation's fresh variable)
             base, t = self.slots[c][id(v)]
             value = self.input(names.fresh_value(base), t)
             choose += domain(value, t, self.ranges, base)
             current[id(v)] = value
-            self._set_unset(c, id(v), "", True, flags, post)  # a function chosen afresh
+            self._set_unset(c, id(v), "", lambda _part: z3.BoolVal(True), flags, post)  # a function chosen afresh
         for key, (base, _t) in self.slots[c].items():
             if key in bound or any(id(a.variable) == key for a in e.updates) or any(id(v) == key for v in e.havoc):
                 for path, term in leaves(current[key]):
@@ -631,14 +664,15 @@ class TransitionSystem:
         t = _end_event(link).type
         return None if t is None else self.value(names.buffer_value(link.index), t)
 
-    def _set_unset(self, c: int, key: int, path: str, chosen: bool, flags: dict[int, dict[str, z3.BoolRef]],
-                   post: dict[str, z3.ExprRef]) -> None:
-        """After a step writes the part at `path` of variable `key`: the `unset` flags of the
-        function-typed parts within it are `chosen`, for the rest of the step and after it."""
+    def _set_unset(self, c: int, key: int, path: str, chosen: Callable[[str], z3.BoolRef],
+                   flags: dict[int, dict[str, z3.BoolRef]], post: dict[str, z3.ExprRef]) -> None:
+        """After a step writes the part at `path` of variable `key`: the `unset` flag of each
+        function-typed part within it is `chosen(its path within the value written)`, for the rest
+        of the step and after it."""
         base = self.slots[c][key][0]
         for part, flag in self.unset.get(base, {}).items():
-            if part.startswith(path):
-                flags[key][part] = post[flag] = z3.BoolVal(chosen)
+            if part == path or part.startswith(f"{path}.") or not path:
+                flags[key][part] = post[flag] = chosen(part[len(path):])
 
     def _write(self, link: Link, value: Value, post: dict[str, z3.ExprRef]) -> None:
         for path, term in leaves(value):
@@ -748,7 +782,8 @@ class TransitionSystem:
                 cs.append(f[names.wait(comp.name, 1)] == 0)
             cs += [f[names.clock(comp.name, clock)] == 0 for clock in comp.automaton.clocks]
             cs += [f[names.armed(comp.name, td.transition)] == 0 for td in comp.automaton.trigger_deadlines]
-        cs += [f[flag] == z3.BoolVal(True) for parts_ in self.unset.values() for flag in parts_.values()]
+        cs += [f[flag] == z3.BoolVal(self.unset_at_start[base]) for base, flags in self.unset.items()
+               for flag in flags.values()]
         for base, (t, initial, c, key) in self.initial.items():
             value = self.value(base, t)
             if initial is not None:
@@ -856,8 +891,21 @@ class TransitionSystem:
         return reads, writes
 
 
-def _origins(flags: dict[int, dict[str, z3.BoolRef]]) -> dict[int, Origin | Flags]:
-    return {key: Flags(by_path) for key, by_path in flags.items()}
+def _origins(flags: dict[int, dict[str, z3.BoolRef]]) -> dict[int, Origin | Parts]:
+    """The origins of the variables with `unset` flags, for an evaluator."""
+    return {key: Parts({path: Unset(flag) for path, flag in by_path.items()}) for key, by_path in flags.items()}
+
+
+def _chosen_part(writer: Evaluator, value: ast.Expr, part: str) -> z3.BoolRef:
+    """Whether the function at path `part` of the value `value` gives is one nobody set."""
+    return _chosen(writer.origin(value, part))
+
+
+def _chosen(origin: Origin) -> z3.BoolRef:
+    """Whether a function of this origin is one nobody set (the value of an `unset` flag)."""
+    if isinstance(origin, Unset):
+        return origin.flag
+    return z3.BoolVal(origin == CHOSEN)
 
 
 def _end_event(link: Link) -> ast.Event:

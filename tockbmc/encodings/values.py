@@ -432,21 +432,26 @@ MADE = "made"  # a function the model made (a lambda): its results are in their 
 
 @dataclass(eq=False)
 class Unset:
-    """A function read from a place that has no initial value but that the model assigns: the
-    function chosen at the start (CHOSEN) while `flag` holds, one the model stored (MADE) after."""
+    """A function read from a place that may hold a function nobody set and, at another time, one
+    the model made (`TransitionSystem._declare_unset`): the first (CHOSEN) while `flag` holds."""
 
     flag: z3.BoolRef
 
 
-@dataclass(eq=False)
-class Flags:
-    """A variable's `Unset` flags (`TransitionSystem`), by the path of each function-typed part
-    (`""` for the variable itself, `.f` for a record's field)."""
-
-    by_path: dict[str, z3.BoolRef]
-
-
 Origin = Union[str, _Binder, Unset]  # CHOSEN, MADE, the quantifier whose variable it is, or Unset
+
+
+@dataclass(eq=False)
+class Parts:
+    """The origins of the function-typed parts of a record or tuple name, or of a variable with
+    `Unset` flags, by the part's path (`""` for the name itself, `.f` for a record's field)."""
+
+    by_path: dict[str, Origin]
+
+
+def function_parts(t: ast.Type) -> list[str]:
+    """The paths of a type's function-typed parts (`""` for a function type itself)."""
+    return [path for path, _ in leaves(fresh("part", t)) if isinstance(leaf_type(t, path), ast.FunctionType)]
 
 # What a bound scope assumes of a quantifier's function-typed variables (its results in type):
 # each with the quantifier it belongs to, which takes it into its domain.
@@ -473,7 +478,7 @@ class Evaluator:
 
     def __init__(self, env: dict[int, Value], constants: dict[int, Value], side: list[z3.BoolRef],
                  clocks: dict[str, z3.ExprRef] | None = None, ranges: Ranges | None = None,
-                 guards: list[z3.BoolRef] | None = None, origins: Mapping[int, Origin | Flags] | None = None,
+                 guards: list[z3.BoolRef] | None = None, origins: Mapping[int, Origin | Parts] | None = None,
                  assumed: Assumed | None = None):
         self.env = env  # id(Variable) -> value
         self.constants = constants
@@ -487,10 +492,10 @@ class Evaluator:
         # Where the function values of names in scope come from (`Origin`, by id(Variable)): a
         # quantifier's variables, a function's parameters and `let` names of function type; and
         # the `Flags` of the variables that have no initial value but are assigned.
-        self.origins: dict[int, Origin | Flags] = dict(origins or {})
+        self.origins: dict[int, Origin | Parts] = dict(origins or {})
         self.assumed = assumed  # inside a quantifier or comprehension: its `_Scope.assumed`
 
-    def _inner(self, env: dict[int, Value], origins: Mapping[int, Origin | Flags] | None = None) -> Evaluator:
+    def _inner(self, env: dict[int, Value], origins: Mapping[int, Origin | Parts] | None = None) -> Evaluator:
         """An evaluator for a nested scope that is evaluated once, where this one is (a `let`)."""
         return type(self)(env, self.constants, self.side, self.clocks, self.ranges, self.guards,
                           {**self.origins, **(origins or {})}, self.assumed)
@@ -504,16 +509,33 @@ class Evaluator:
             return self.origin(e.record, f".{e.field_name}{path}")
         if isinstance(e, ast.Index) and isinstance(e.value.type, ast.ProductType):
             return self.origin(e.value, f".{e.index.value}{path}" if isinstance(e.index, ast.Literal) else path)
+        if isinstance(e, (ast.RecordLiteral, ast.TupleLiteral)) and path:
+            head, _, rest = path[1:].partition(".")
+            given = dict(e.fields) if isinstance(e, ast.RecordLiteral) else \
+                {str(i): x for i, x in enumerate(e.items, 1)}
+            # a field the literal leaves out is any value of its type: a function nobody set
+            return self.origin(given[head], f".{rest}" if rest else "") if head in given else CHOSEN
         if not isinstance(e, ast.VarRef):
             return MADE
         var = e.variable
         found = self.origins.get(id(var))
-        if isinstance(found, Flags):
-            flag = found.by_path.get(path)
-            return CHOSEN if flag is None else Unset(flag)
+        if isinstance(found, Parts):
+            found = found.by_path.get(path)
         if found is not None:
             return found
         return CHOSEN if var.initial is None and var.kind not in ("bound", "let") else MADE
+
+    def origins_of(self, names: Iterable[tuple[ast.Variable, ast.Expr]]) -> dict[int, Origin | Parts]:
+        """The origins of the function values that names (a function's parameters, a `let`) are
+        given by expressions: of each function-typed part of a record or tuple too."""
+        out: dict[int, Origin | Parts] = {}
+        for v, x in names:
+            paths = function_parts(v.type)
+            if paths == [""]:
+                out[id(v)] = self.origin(x)
+            elif paths:
+                out[id(v)] = Parts({p: self.origin(x, p) for p in paths})
+        return out
 
     def _bound_scope(self, env: dict[int, Value], quantified: Iterable[ast.Variable] = ()) -> _Scope:
         """An evaluator for a scope evaluated at every value of its bound variables (a
@@ -630,8 +652,8 @@ class Evaluator:
             return value
         if isinstance(e, ast.Let):
             [bound] = operands
-            origins = {id(e.variable): self.origin(e.value)} if isinstance(e.variable.type, ast.FunctionType) else {}
-            return self._inner({**self.env, id(e.variable): bound}, origins).value(e.body)
+            return self._inner({**self.env, id(e.variable): bound},
+                               self.origins_of([(e.variable, e.value)])).value(e.body)
         if isinstance(e, ast.Quantifier):
             return self._quantifier(e)
         if isinstance(e, ast.Lambda):
@@ -699,7 +721,7 @@ class Evaluator:
         if f.unchecked:
             raise Unsupported(e.pos, ast.unchecked_function(f))
         if f.definition is not None:
-            origins = {id(p): self.origin(x) for p, x in zip(f.parameters, e.args) if isinstance(p.type, ast.FunctionType)}
+            origins = self.origins_of(zip(f.parameters, e.args))
             inner = Evaluator({**self.constants, **{id(p): a for p, a in zip(f.parameters, args)}}, {}, self.side,
                               ranges=self.ranges, guards=self.guards, origins=origins, assumed=self.assumed)
             defined = inner.value(f.definition)
@@ -729,7 +751,9 @@ class Evaluator:
         result = packed
         # The axiom `pre => post`, instantiated at this call: exact, since only called points matter.
         # The conditions read the arguments as values (a record's fields by name), not packed.
-        ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side, ranges=self.ranges)
+        # A function value passed in and applied there: as where the call is (the step's conditions).
+        ev = Evaluator({id(p): a for p, a in zip(f.parameters, args)}, {}, self.side, ranges=self.ranges,
+                       guards=self.guards, origins=self.origins_of(zip(f.parameters, e.args)), assumed=self.assumed)
         pre = [ev.scalar(c) for c in f.preconditions]
         post = [_with_result(ev, c, result) for c in f.postconditions]
         if post:
@@ -1095,4 +1119,4 @@ def _with_result(ev: Evaluator, cond: ast.Expr, result: z3.ExprRef) -> z3.BoolRe
                 return result
             return super()._apply(e, operands)
 
-    return _R(ev.env, ev.constants, ev.side, ev.clocks, ev.ranges).scalar(cond)
+    return _R(ev.env, ev.constants, ev.side, ev.clocks, ev.ranges, ev.guards, ev.origins, ev.assumed).scalar(cond)
