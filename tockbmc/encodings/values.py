@@ -187,7 +187,7 @@ def initially(v: Value, t: ast.Type, expr: ast.Expr, ev: Evaluator, ranges: Rang
     return [equal(v, ev.value(expr)), *fits(v, t)]
 
 
-# Terms already known to be values of a type (a place's value before the step: `Stored.of`), by
+# Terms already known to be values of a type (a place's value before the step: `stored`), by
 # Z3's id of the term, with the term kept alive beside its type.
 Stored = dict[int, tuple[z3.ExprRef, ast.Type]]
 
@@ -252,7 +252,7 @@ def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored,
     if kind == z3.Z3_OP_SEQ_EMPTY or (kind == z3.Z3_OP_CONST_ARRAY and z3.is_false(args[0])):
         return []
     if kind == z3.Z3_OP_UNINTERPRETED and v.decl().name() == UPDATE_OUTSIDE:
-        return []  # `s[i] = e` outside 1..#s: any sequence of s's type (`_update`'s axiom keeps it so)
+        return []  # `s[i] = e` outside 1..#s: any sequence of s's type (`Evaluator._update_outside`'s axiom)
     if kind == z3.Z3_OP_SEQ_UNIT:
         return fits(unpack(args[0], t.element), t.element, known)
     if kind in (z3.Z3_OP_SEQ_CONCAT, z3.Z3_OP_SET_UNION):
