@@ -80,7 +80,7 @@ def _found(terms: Iterable[z3.ExprRef], functions: frozenset[str], facts: Iterab
         elif kind == z3.Z3_OP_UNINTERPRETED and (decl.arity() > 0 or name.removesuffix(".outside") in functions):
             if name.startswith("lambda!"):
                 out[f"a lambda outside its condition (line {name[7:].split(':')[0]})"] = None
-            elif name == UPDATE_OUTSIDE:
+            elif name.startswith(UPDATE_OUTSIDE):
                 out["a sequence updated outside its length"] = None
             elif name.startswith("toolkit."):
                 out[f"{name[8:]} of a set without one"] = None

@@ -212,14 +212,15 @@ class TransitionSystem:
             return {fd: self.value(f"{base}.{fd}", ft, after) for fd, ft in parts(t)}
         return f[base]
 
-    def evaluator(self, c: int, extra: dict[int, Value] | None = None,
-                  guards: list[z3.BoolRef] | None = None) -> Evaluator:
+    def evaluator(self, c: int, extra: dict[int, Value] | None = None, guards: list[z3.BoolRef] | None = None,
+                  flags: dict[int, dict[str, z3.BoolRef]] | None = None) -> Evaluator:
         env = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         if extra:
             env.update(extra)
         name = self.components[c].name
         clocks = {clock: self.cur[names.clock(name, clock)] for clock in self.components[c].automaton.clocks}
-        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges, guards, _origins(self._flags(c)))
+        return Evaluator(env, self.constants[c], self.side, clocks, self.ranges, guards,
+                         _origins(self._flags(c) if flags is None else flags))
 
     # ------------------------------------------------------------ event labels (CSP's view)
 
@@ -367,6 +368,11 @@ class TransitionSystem:
                   for a in e.updates if id(a.variable) in base_of]
         chosen |= {base_of[id(v)] for comp in self.components for e in comp.automaton.edges for v in e.havoc
                    if id(v) in base_of}
+        # a function received on an event: chosen by the environment, or made by the machine sending it
+        received = {base_of[id(e.binds)] for comp in self.components for e in comp.automaton.edges
+                    if e.binds is not None and id(e.binds) in base_of}
+        chosen |= received
+        made |= received
         grown = True
         while grown:
             grown = False
@@ -518,15 +524,20 @@ class TransitionSystem:
         enabled: list[z3.BoolRef] = [self.loc(c) == e.source]
         choose: list[z3.BoolRef] = []
         bound: dict[int, Value] = {}
+        flags = self._flags(c)
         if incoming is not None and e.binds is not None:
             bound[id(e.binds)] = incoming
+            # a function the environment chose is any function into its type; one another machine
+            # sent may be one it made
+            if id(e.binds) in self.slots[c]:
+                self._set_unset(c, id(e.binds), "", lambda _part: z3.BoolVal(chosen is not None), flags, post)
             # `e?x` into a nat x: not a negative value. A value the environment chose is one of the
             # event's type, within the range of its path (a sequence's length); a value another
             # machine sent is checked whole.
             known = stored([(incoming, e.event.type)]) if chosen is not None and e.event and e.event.type else {}
             r = self.ranges.by_path.get(chosen) if chosen is not None else None
             enabled += fits(incoming, e.binds.type, known, math.floor(r.high) if r is not None else None)
-        ev = self.evaluator(c, bound, guards=enabled)
+        ev = self.evaluator(c, bound, guards=enabled, flags=flags)
         if incoming is not None and e.value is not None and e.kind == "in":
             enabled.append(equal(incoming, ev.value(e.value)))
         enabled += [ev.scalar(g) for g in e.guard]
@@ -540,7 +551,6 @@ class TransitionSystem:
         # Updates in order, each reading the values (and `unset` flags) the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
-        flags = self._flags(c)
         for a in e.updates:
             writer = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled, _origins(flags))
             new = writer.value(a.value)

@@ -251,7 +251,7 @@ def _items_fit(v: z3.ExprRef, t: ast.SeqType | ast.SetType, known: Stored,
         return []
     if kind == z3.Z3_OP_SEQ_EMPTY or (kind == z3.Z3_OP_CONST_ARRAY and z3.is_false(args[0])):
         return []
-    if kind == z3.Z3_OP_UNINTERPRETED and v.decl().name() == UPDATE_OUTSIDE:
+    if kind == z3.Z3_OP_UNINTERPRETED and v.decl().name() == f"{UPDATE_OUTSIDE}:{_qualified(t)}":
         return []  # `s[i] = e` outside 1..#s: any sequence of s's type (`Evaluator._update_outside`'s axiom)
     if kind == z3.Z3_OP_SEQ_UNIT:
         return fits(unpack(args[0], t.element), t.element, known)
@@ -953,7 +953,9 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         i, item = xs[1], xs[2]
         n = z3.Length(a)
         replaced = z3.Concat(z3.SubSeq(a, 0, i - 1), z3.Unit(item), z3.SubSeq(a, i, n - i))
-        outside = z3.Function(UPDATE_OUTSIDE, a.sort(), z3.IntSort(), item.sort(), a.sort())
+        # one function per sequence type: a Seq(nat)'s outside value is kept a Seq(nat) by an
+        # axiom (`Evaluator._update_outside`), which must not bind a Seq(int) of the same sort
+        outside = z3.Function(f"{UPDATE_OUTSIDE}:{_qualified(st)}", a.sort(), z3.IntSort(), item.sort(), a.sort())
         return z3.If(z3.And(i >= 1, i <= n), replaced, outside(a, i, item))
     if op == "size":  # of a sequence (a set's: `_set_size`, which needs the ranges)
         return z3.Length(a)
