@@ -551,13 +551,16 @@ class TransitionSystem:
         # Updates in order, each reading the values (and `unset` flags) the previous ones wrote.
         current = {key: self.value(base, t) for key, (base, t) in self.slots[c].items()}
         current.update(bound)
+        # values already of their places' types, which `fits` need not check again: the places'
+        # values before the step, and each value a step stores (checked as it is stored)
+        known = stored((current[key], t) for key, (_base, t) in self.slots[c].items())
         for a in e.updates:
             writer = Evaluator(current, self.constants[c], self.side, ev.clocks, self.ranges, enabled, _origins(flags))
             new = writer.value(a.value)
             # the value fits its place (a `nat` not negative), or the step cannot be taken
-            known = stored((current[key], self.slots[c][key][1]) for key in self.slots[c] if key in current)
             path = "".join(f".{f}" for f in a.fields)
             enabled += fits(new, leaf_type(a.variable.type, path), known)
+            known.update(stored([(new, leaf_type(a.variable.type, path))]))
             key = id(a.variable)
             if folds(new):
                 self._keep_items(*self.slots[c][key])

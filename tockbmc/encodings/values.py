@@ -449,9 +449,11 @@ class Parts:
     by_path: dict[str, Origin]
 
 
-def function_parts(t: ast.Type) -> list[str]:
+def function_parts(t: ast.Type, prefix: str = "") -> list[str]:
     """The paths of a type's function-typed parts (`""` for a function type itself)."""
-    return [path for path, _ in leaves(fresh("part", t)) if isinstance(leaf_type(t, path), ast.FunctionType)]
+    if isinstance(t, ast.FunctionType):
+        return [prefix]
+    return [path for f, ft in parts(t) for path in function_parts(ft, f"{prefix}.{f}")]
 
 # What a bound scope assumes of a quantifier's function-typed variables (its results in type):
 # each with the quantifier it belongs to, which takes it into its domain.
