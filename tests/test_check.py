@@ -157,14 +157,16 @@ def test_a_counterexample_in_a_module_starts_from_the_values_bmc_chose() -> None
     was named `ForagingC::DTP.source` and so on, which the interpreter did not find under its own
     names for them (`ForagingC.DTP`); it tried every start (234,375 of them), gave up past its
     limit and reported a failure to follow (exit 1).  The counterexample is now replayed from the
-    one start BMC chose.  (Both engines find the timelock: DTP's `during Explore()` calls an
-    operation, which is urgent, while PositionEstimation waits.)"""
+    one start BMC chose, in the open reading, where those variables start anywhere.  (Both engines
+    find the timelock: DTP's `during Explore()` calls an operation, which is urgent, while
+    PositionEstimation waits.)"""
     import dataclasses
 
     from tockbmc.model.config import ROBOTOOL_RANGES, configure
     from tockbmc.model.core import core_assertions
+    from tockbmc.model.readings import Reading
     project = tockbmc.load(SHARED / "realworld" / "UoY-RoboStar+robocert-evaluation" / "foraging")
     project = dataclasses.replace(project, assertions=core_assertions(project))
-    config = configure(project, default_ranges=ROBOTOOL_RANGES)
+    config = configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading.OPEN)
     [r] = check(config.project, ["Foraging_timelock_free"], bound=40, config=config, timeout=60)
     assert r.verdict == "violated" and r.extra.get("replayed") == "yes", r.reason

@@ -78,12 +78,12 @@ def test_closed_stdout_prints_nothing_and_keeps_the_status() -> None:
 
 
 def test_a_usage_error_found_by_worker_processes_prints_no_traceback(tmp_path: Path) -> None:
-    """`check --engine explicit -j 2` on unbounded data: the workers find it, and the usage error
+    """`check --open --engine explicit -j 2` on unbounded data: the workers find it, and the usage error
     was followed by multiprocessing's tracebacks (the pool's semaphores cleaned up twice at exit)."""
     write_files(tmp_path, {"m.rct": "stm M {\n  var x : int\n  event e : int\n  initial i\n  state s {}\n"
                                     "  transition t0 { from i to s action e!x }\n}\n",
                            "m.assertions": "assertion A: M is deadlock-free.\nassertion B: M terminates.\n"})
-    done = subprocess.run([*TOCKBMC, "check", str(tmp_path), "--engine", "explicit", "-j", "2", "--timeout", "20"],
+    done = subprocess.run([*TOCKBMC, "check", str(tmp_path), "--open", "--engine", "explicit", "-j", "2", "--timeout", "20"],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2 and "needs finite data" in done.stderr, done.stderr
     assert "Traceback" not in done.stderr and "leaked" not in done.stderr, done.stderr
@@ -154,7 +154,8 @@ stm Count {
   transition t1 { from s to s condition n < 100000000 action n = n + 1 }
 }
 """,
-    # Z3 spends minutes on Hard's cubic (no solution) and the explicit search on Count's hundred million
+    # Z3 spends minutes on Hard's cubic (no solution; read --open, where x and y start anywhere) and
+    # the explicit search on Count's hundred million
     "m.assertions": "assertion Q1: Quick terminates.\nassertion H: Hard terminates.\nassertion C: Count terminates.\n"
                     "assertion Q2: Quick terminates.\n",
 }
@@ -180,7 +181,7 @@ def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) ->
     130 with the verdicts decided so far and the other assertions marked interrupted. Elsewhere
     (loading, showing, simulating): "interrupted", exit 130, not click's "Aborted!" and 1."""
     write_files(tmp_path, SLOW)
-    bmc = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "1"]
+    bmc = ["check", tmp_path, "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "1"]
     explicit = ["check", tmp_path, "-k", "4", "-a", "Q1", "-a", "C", "-a", "Q2", "--engine", "explicit", "--range",
                 "core_int=-1..1", "--max-states", "100000000", "--format", "json", "-j", "1"]
     simulate = ["simulate", tmp_path, "--element", "Count", "--steps", "100000000"]

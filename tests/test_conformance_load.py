@@ -143,13 +143,16 @@ def test_parameterised_enumeration_is_checked() -> None:
     loads (RoboTool accepts it) and BMC decides its machine (it was `unsupported` at the
     enumeration's declaration until session 13).  Its one assertion, whose specification reads a
     received record's fields with RoboTool's `test15_DT_p(x)`, is checked, and undecided: the
-    specification's traces, a record and tocks, are too many to list; the explicit engine stops
-    earlier, at the call of func1, which has no body (not at the enumeration, nor, since session 15,
-    at the initial value `DT(|p=0|)` that omits field q)."""
+    specification's traces, a record and tocks, are too many to list. The explicit engine decides
+    the core assertions with func1's placeholder (RoboTool's `func1(e) = 0`); in the open reading,
+    where func1 has no body, it stops at its call (not at the enumeration, nor at the initial value
+    `DT(|p=0|)` that omits field q)."""
     from tockbmc.check import check
     from tockbmc.explicit.engine import check_explicit
+    from tockbmc.model.config import configure
     from tockbmc.model.core import core_assertions
     from tockbmc.model.ranges import Range, Ranges
+    from tockbmc.model.readings import Reading
 
     project = outcome(VALID / "test15")
     assert isinstance(project, Project)
@@ -161,6 +164,9 @@ def test_parameterised_enumeration_is_checked() -> None:
     assert {r.assertion: r.verdict for r in check(project, core, ranges=ranges, timeout=30)} == {
         a: "holds" for a in core}
     for r in check_explicit(project, core, 8, ranges, {}, 30, 10_000):
+        assert r.verdict == "holds" and r.defaults["test15::func1"] == "0", (r.verdict, r.reason)
+    config = configure(project, ranges, reading=Reading.OPEN)
+    for r in check_explicit(config.project, core, 8, ranges, {}, 30, 10_000, config=config):
         assert r.verdict == "unsupported" and "the uninterpreted function func1" in (r.reason or ""), r.reason
 
 

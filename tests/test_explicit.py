@@ -47,15 +47,20 @@ def test_explicit_engine_needs_finite_ranges() -> None:
 
 
 def test_an_unbounded_sequence_gets_a_range_hint_check_accepts() -> None:
-    """The hint names a path whose range bounds the sequence's length; it used to suggest
-    `--range Seq(int)=LO..HI`, which `check` refuses (no type 'Seq(int)')."""
+    """In the open reading a sequence variable without an initial value starts at any sequence:
+    the hint names a path whose range bounds its length (it used to suggest `--range
+    Seq(int)=LO..HI`, which `check` refuses). By default it starts empty, as RoboTool's memory does,
+    and needs no range."""
     case = str(CONFORMANCE / "robochart" / "SequenceAndProductTest")
-    result = CliRunner().invoke(cli, ["check", case, "--range", "core_int=-1..1", "--engine", "explicit", "-j", "1"])
+    base = ["check", case, "--range", "core_int=-1..1", "--engine", "explicit", "-j", "1"]
+    result = CliRunner().invoke(cli, [*base, "--open"])
     assert result.exit_code == 2 and "its length: --range SequenceAndProductTest::test::a=LO..HI" in result.output, \
         result.output
-    again = CliRunner().invoke(cli, ["check", case, "--range", "core_int=-1..1", "--range",
-                                     "SequenceAndProductTest::test::a=0..2", "--engine", "explicit", "-j", "1"])
+    again = CliRunner().invoke(cli, [*base, "--open", "--range", "SequenceAndProductTest::test::a=0..2"])
     assert again.exit_code != 2 and "needs finite data" not in again.output, again.output
+    default = CliRunner().invoke(cli, base)
+    assert default.exit_code == 0 and "SequenceAndProductTest::test::a=<> [RoboTool default" in default.output, \
+        default.output
 
 
 def test_state_limit_gives_unknown() -> None:

@@ -111,7 +111,8 @@ def test_itf_writes_a_record_as_a_record_whose_fields_are_the_event_values() -> 
     assert set(record) == {"dist", "time"}
     dist, time = (record[f]["#bigint"] for f in ("dist", "time"))
     assert move["mbt::actionTaken"] == f"EXAX::move.in.(dist={dist}, time={time})"
-    assert a1[0]["EXAX.exax_move"] == {"dist": itf.UNSET, "time": itf.UNSET}  # no initial value: not set yet
+    # no initial value: RoboTool's default by default
+    assert a1[0]["EXAX.exax_move"] == {"dist": {"#bigint": "0"}, "time": {"#bigint": "0"}}
     assert a1[-1]["EXAX.exax_move"] == record and a1[-1]["mbt::actionTaken"] == "tock"
 
 
@@ -124,7 +125,7 @@ def test_itf_carries_values_forward_and_writes_a_real_as_a_string_in_every_state
     assert traces["a"]["vars"] == ["mbt::actionTaken", "M", "M.x", "M.r", "M.u"]
     assert [s["M.r"] for s in states] == ["0", "0", "0", "0.5", "0.5", "0.5", "1", "1", "1"]
     assert [s["M.x"]["#bigint"] for s in states] == ["0", "0", "1", "1", "1", "2", "2", "2", "2"]
-    assert states[0]["M.u"] == {"#unserializable": "unset"}
+    assert states[0]["M.u"] == {"#bigint": "0"}  # no initial value: RoboTool's default
     for s in states:
         if s["mbt::actionTaken"].startswith("M::go.in."):  # the input sets u
             assert s["M.u"] == {"#bigint": s["mbt::actionTaken"].removeprefix("M::go.in.")}

@@ -120,7 +120,7 @@ def test_rows_stream_and_ctrl_c_ends_the_workers_and_their_spacer_children(tmp_p
     still being decided; Ctrl-C then exits 130 within two seconds, with Q2's verdict (decided by the
     other worker) and H interrupted, and no worker process or Spacer child left a second later."""
     write_files(tmp_path, SLOW)
-    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
+    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert p.stdout is not None

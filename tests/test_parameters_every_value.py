@@ -24,6 +24,7 @@ from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.explicit.engine import check_explicit
 from tockbmc.model.config import configure
+from tockbmc.model.readings import Reading
 
 MODEL = """
 stm KT {
@@ -152,11 +153,11 @@ def test_a_witness_that_chose_what_a_function_without_a_body_computes_gives_no_v
     15), and V's chose h(0), outside h's precondition, through twice's body. W calls h only inside
     its precondition, where the body fixes it: the interpreter, which evaluates no function without
     a body, replays the witness whole, so it stands whatever the functions compute. Violations
-    stand: some g makes each."""
+    stand: some g makes each. (The open reading: by default g is RoboTool's placeholder.)"""
     write_files(tmp_path, {"m.rct": FREE, "m.assertions": FREE_ASSERTIONS})
     project = tockbmc.load(tmp_path)
-    config = configure(project, ONE, settings={"U::k": "0"})
-    results = {r.assertion: r for r in check(project, bound=10, config=config, timeout=60)}
+    config = configure(project, ONE, settings={"U::k": "0"}, reading=Reading.OPEN)
+    results = {r.assertion: r for r in check(config.project, bound=10, config=config, timeout=60)}
     assert {n: r.verdict for n, r in results.items()} == {
         "R1": "unknown", "R2": "violated", "R3": "violated", "R4": "violated", "V1": "unknown", "W1": "holds"}
     assert "the run rests on what the model leaves open (g)" in (results["R1"].reason or "")
@@ -249,12 +250,14 @@ def test_a_witness_resting_on_any_value_the_model_leaves_open_gives_no_verdict(t
     lambda outside its condition, Q reads an item past a sequence's end and divides by zero: any
     value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value.
     E's initial value reads past the sequence's end inside a quantifier (the scan missed it, and the
-    replay took the start from the run: `holds`, session 16)."""
+    replay took the start from the run: `holds`, session 16). Functions and variables are read
+    open; constants take RoboTool's defaults."""
     write_files(tmp_path, {"m.rct": OPEN, "m.assertions": "".join(
         f"assertion {n}: {st} is reachable in {m}.\n" for n, st, m in
         (("A1", "yes", "A"), ("B1", "yes", "B"), ("L1", "yes", "L"), ("Q1", "yes", "Q"), ("Q2", "no", "Q"),
          ("E1", "yes", "E")))})
-    results = {r.assertion: r for r in check(tockbmc.load(tmp_path), bound=10, timeout=60)}
+    config = configure(tockbmc.load(tmp_path), reading=Reading.OPEN, open_defaults=False)
+    results = {r.assertion: r for r in check(config.project, bound=10, config=config, timeout=60)}
     assert {n: r.verdict for n, r in results.items()} == {n: "unknown" for n in ("A1", "B1", "L1", "Q1", "Q2", "E1")}, \
         {n: r.reason for n, r in results.items()}
     assert "(g)" in (results["A1"].reason or "") and "(k1)" in (results["B1"].reason or "")

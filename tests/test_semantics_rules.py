@@ -17,17 +17,19 @@ import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model.config import configure
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result
 
 MINUS1_1 = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
 
 
 def run(tmp_path: Path, rct: str, assertions: str, bound: int = 14, ranges: Ranges | None = None,
-        names: list[str] | None = None, params: tuple[str, ...] = ()) -> dict[str, Result]:
+        names: list[str] | None = None, params: tuple[str, ...] = (),
+        reading: Reading = Reading.DEFAULT) -> dict[str, Result]:
     write_files(tmp_path, {"m.rct": rct, "m.assertions": assertions})
     project = tockbmc.load(tmp_path)
-    config = configure(project, ranges or Ranges(), params=params)
-    return {r.assertion: r for r in check(project, names, bound=bound, config=config)}
+    config = configure(project, ranges or Ranges(), params=params, reading=reading)
+    return {r.assertion: r for r in check(config.project, names, bound=bound, config=config)}
 
 
 def events(r: Result) -> list[str]:
@@ -943,8 +945,8 @@ def test_rule13_machine_alone_has_own_copy(tmp_path) -> None:
 
 
 def test_rule14_data_ranges_and_nat(tmp_path) -> None:
-    """§2.14: an uninitialised int is unbounded by default, bounded by core_int; a nat variable
-    or input is never negative."""
+    """§2.14, §2.16: in the open reading an uninitialised int is unbounded, bounded by core_int;
+    by default it starts at RoboTool's 0; a nat variable or input is never negative."""
     rct = """
 stm M {
   event e : nat
@@ -966,13 +968,17 @@ stm M {
             "assertion NoBig: big is not reachable in M.\n"
             "assertion Neg: neg is not reachable in M.\n"
             "assertion NegIn: neginput is not reachable in M.\n")
-    rs = run(tmp_path, rct, text)
+    rs = run(tmp_path, rct, text, reading=Reading.OPEN)
     expect(rs["Big"], "holds", [])
     expect(rs["NoBig"], "violated", [])
     expect(rs["Neg"], "holds")
     expect(rs["NegIn"], "holds")
-    rs = run(tmp_path, rct, text, ranges=MINUS1_1, names=["NoBig"])
+    rs = run(tmp_path, rct, text, ranges=MINUS1_1, names=["NoBig"], reading=Reading.OPEN)
     expect(rs["NoBig"], "holds")
+    rs = run(tmp_path, rct, text)
+    expect(rs["Big"], "violated")
+    expect(rs["NoBig"], "holds")
+    assert rs["NoBig"].defaults == {"M::x": "0", "M::n": "0"} and rs["NoBig"].reading == "default"
 
 
 def test_rule14_real_arithmetic_is_exact(tmp_path) -> None:

@@ -87,6 +87,7 @@ class _Check:
         # What the result states it was checked with; the assertion's constants are known once it is queried.
         self.described: dict[str, str] = self.ranges.describe()
         self.constants: dict[str, str] = {}
+        self.defaults: dict[str, str] = {}  # what the reading filled in that the element reaches
         self.sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
         self.consts: dict[str, ast.Expr] = {}
         self.start = time.perf_counter()
@@ -111,12 +112,15 @@ class _Check:
         return Result(assertion=self.a.name, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=reason,
                       trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {}, constants=self.constants,
-                      sources=self.sources)
+                      sources=self.sources, reading=self.config.reading, defaults=self.defaults,
+                      not_reproduced=self.config.reading.not_reproduced)
 
     def unsupported(self, exc: Unsupported) -> Result:
         return Result(assertion=self.a.name, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=exc.reason,
-                      proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources)
+                      proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources,
+                      reading=self.config.reading, defaults=self.defaults,
+                      not_reproduced=self.config.reading.not_reproduced)
 
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
@@ -168,6 +172,7 @@ class _Check:
             setup = self.config.setup(self.a, q.element, q.settings)
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
+            self.defaults = setup.defaults
             spec_setup = (self.config.setup(self.a, q.spec_element.element, q.spec_element.settings)
                           if q.spec_element is not None else None)
             self.spec_consts = spec_setup.constants if spec_setup is not None else {}

@@ -30,6 +30,7 @@ from tockbmc.model.core import core_assertions
 from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.ranges import Range
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result, exit_code
 from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, overran, stop_servers, warm_up
 from tockbmc.report import itf, junit, sarif
@@ -155,12 +156,12 @@ def _range_hint(exc: Unbounded, config: Configuration) -> str:
 
 
 def _configure(project: Project, range_specs: tuple[str, ...], set_specs: tuple[str, ...],
-               param_specs: tuple[str, ...] = ()) -> Configuration:
+               param_specs: tuple[str, ...] = (), reading: Reading = Reading.DEFAULT) -> Configuration:
     """Resolve `--range`, `--set` and `--param` against the model and its instantiation (exit 2 if one
-    does not fit); print the instantiation's warnings."""
+    does not fit), in `reading`; print the instantiation's warnings."""
     ranges, settings = _ranges(range_specs), _settings(set_specs)
     try:
-        config = configure(project, ranges, settings, param_specs)
+        config = configure(project, ranges, settings, param_specs, reading=reading)
     except ConfigError as exc:
         raise click.BadParameter(str(exc), param_hint=f"'{exc.option}'") from None
     if config.warnings:
@@ -209,6 +210,13 @@ def default_jobs() -> int:
                    "element's name for it.")
 @click.option("--param", "param_specs", multiple=True, metavar="NAME",
               help="Make a constant without a value a parameter: every value of its type and range is considered.")
+@click.option("--open", "open_reading", is_flag=True,
+              help="The open reading: nothing the model leaves unset is filled in (variables start at any value, "
+                   "functions without a body are any function meeting their contract, constants without a value "
+                   "are parameters). By default RoboTool's instantiation fills them in.")
+@click.option("--robotool", "robotool_reading", is_flag=True,
+              help="FDR's finite check: RoboTool's instantiation with its default ranges (core_int=-2..2, "
+                   "core_nat=0..2, core_real=-2..2) for every type nothing else bounds.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",
@@ -237,9 +245,9 @@ def default_jobs() -> int:
               help="Decide the assertions as tasks on the Dask cluster whose scheduler is at ADDRESS "
                    "(tcp://host:8786); needs pip install 'tockbmc[dask]', here and on the workers.")
 def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_specs: tuple[str, ...],
-          set_specs: tuple[str, ...], param_specs: tuple[str, ...], timeout: float | None, fmt: str, engine: str,
-          max_states: int, shortest: str, core: bool, report_path: str | None, jobs: int | None,
-          dask_address: str | None) -> None:
+          set_specs: tuple[str, ...], param_specs: tuple[str, ...], open_reading: bool, robotool_reading: bool,
+          timeout: float | None, fmt: str, engine: str, max_states: int, shortest: str, core: bool,
+          report_path: str | None, jobs: int | None, dask_address: str | None) -> None:
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
@@ -248,6 +256,9 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
+    if open_reading and robotool_reading:
+        raise click.UsageError("--open and --robotool exclude each other: a check has one reading")
+    reading = Reading.OPEN if open_reading else Reading.ROBOTOOL if robotool_reading else Reading.DEFAULT
     workers = jobs if jobs is not None else default_jobs()
     if dask_address is not None:
         if jobs is not None:
@@ -261,7 +272,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         if not project.assertions:
             click.echo("tockbmc: the model has no assertions: checking RoboTool's core assertions", err=True)
         project = dataclasses.replace(project, assertions=project.assertions + core_assertions(project))
-    config = _configure(project, range_specs, set_specs, param_specs)
+    config = _configure(project, range_specs, set_specs, param_specs, reading)
     _known_assertions(project, names)
     selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
     results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,

@@ -32,6 +32,7 @@ from tockbmc.model.config import ConfigError, Configuration, Names, Setup, confi
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.exploration import Carried, Exploration
 from tockbmc.model.ranges import Range, Ranges, is_path
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Verdict
 from tockbmc.properties.goals import Goal, Query
 from tockbmc.properties.queries import query
@@ -69,7 +70,7 @@ def plan(project: ast.Project, ranges: Mapping[str, Range | None] | None = None,
             bounded.append(key)
     if not params:
         bounded = [r for r in CORE_RANGES if r not in (ranges or {})]
-    config = configure(project, ranges, settings, constants, open_defaults=not params)
+    config = configure(project, ranges, settings, constants, open_defaults=not params, reading=Reading.OPEN)
     return Plan(config, tuple(bounded))
 
 

@@ -326,7 +326,11 @@ class TransitionSystem:
                 slots[id(v)] = (base, v.type)
                 if base not in self.initial:
                     self._scalars(base, v.type)
-                    self.initial[base] = (v.type, decl.initial, c, declaration_key(decl))
+                    # a variable a machine checked on its own requires starts anywhere, whatever the
+                    # reading fills in: RoboTool's environment may write it (docs/semantics.md §5.5)
+                    alone = key is None and v.kind == "interface" and \
+                        not ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces))
+                    self.initial[base] = (v.type, None if alone else decl.initial, c, declaration_key(decl))
             self.slots[c] = slots
             self.constants[c] = consts
         self._declare_unset()

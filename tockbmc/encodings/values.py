@@ -351,6 +351,8 @@ def domain(v: Value, t: ast.Type, ranges: Ranges, path: str) -> list[z3.BoolRef]
         return cs
     if t == ast.NAT:
         cs.append(v >= 0)
+    if t == ast.REAL and ranges.integral_reals and z3.is_real(v):
+        cs.append(z3.IsInt(v))
     if isinstance(t, ast.EnumType):
         cs += [v >= 0, v < len(t.literals)]
     if not z3.is_arith(v):

@@ -472,6 +472,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
     described: dict[str, str] = config.ranges().describe()
     constants: dict[str, str] = {}
     sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
+    defaults: dict[str, str] = {}
 
     def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
         extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
@@ -485,7 +486,9 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
         return Result(assertion=a.name, text=a.text, verdict=verdict,
                       bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=described,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
-                      engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources)
+                      engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources,
+                      reading=config.reading, defaults=defaults,
+                      not_reproduced=config.reading.not_reproduced)
 
     try:
         q = query(project, a)
@@ -494,6 +497,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
         setup = config.setup(a, q.element, q.settings)
         seen.append((q, setup))
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
+        defaults = setup.defaults
         consts = python_settings(setup.constants)
 
         def interpreter(lazy: bool) -> Interpreter:
@@ -732,7 +736,9 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
         return Result(assertion=a.name, text=a.text, verdict=verdict, bound=bound, ranges=setup.described_ranges,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace,
                       proof=Proof.TRACE if trace else Proof.EXHAUSTIVE, engine="explicit", pos=str(a.pos),
-                      extra=more or {}, constants=setup.described_constants, sources=setup.sources)
+                      extra=more or {}, constants=setup.described_constants, sources=setup.sources,
+                      reading=config.reading, defaults=setup.defaults,
+                      not_reproduced=config.reading.not_reproduced)
 
     try:
         interp = Interpreter(q.element, ranges_dict(setup.ranges), python_settings(setup.constants),

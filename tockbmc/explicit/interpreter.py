@@ -964,6 +964,14 @@ class Interpreter:
             return ("shared", var.name) if self.network else ("v", i, "#iface", var.name)
         return ("v", i, var.owner, var.name)
 
+    def _required_alone(self, info: _Slot) -> bool:
+        """Whether the slot is a variable that a machine checked on its own requires: RoboTool's
+        environment may write it at any time, so it starts at any value, whatever the reading fills
+        in (docs/semantics.md §5.5)."""
+        var = info.var
+        return (not self.network and var is not None and var.kind == "interface" and not var.constant
+                and info.inst is not None and not self._own_interface(info.inst, var))
+
     def _own_interface(self, i: int, var: ast.Variable) -> bool:
         """A variable or constant of an interface the machine provides or uses is its own, one per
         instance (RoboTool: `const_test12_ctrl0_stm_ref0_CC`); a required one is its controller's."""
@@ -1713,7 +1721,7 @@ class Interpreter:
                     base[s] = _coerce(var.type, val)
                     if not _fits(var.type, base[s]):  # `with constant K set to -1` of a nat K: no run starts
                         return
-                elif var.initial is not None:
+                elif var.initial is not None and not self._required_alone(info):
                     deferred.append((s, info))
                     if isinstance(var.initial, ast.RecordLiteral) and var.initial.omitted:
                         # the omitted fields are open (a record of those only), the given ones set after

@@ -8,7 +8,7 @@ that later layers can point back at the model text.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -728,7 +728,14 @@ def free_functions(*roots: object) -> list[Function]:
     `result == e` postcondition, or with preconditions, outside which any value is possible
     (docs/semantics.md §6.4). A claim decided over every run holds whatever they compute, but a run
     found as a witness stands for the interpretation it chose."""
-    found: dict[int, Function] = {}
+    found = {id(item): item for item in parts(*roots)
+             if isinstance(item, Function) and (item.definition is None or item.preconditions)}
+    return sorted(found.values(), key=lambda f: f.qname)
+
+
+def parts(*roots: object) -> Iterator[object]:
+    """Every model object `roots` hold, themselves included, each once: the fields of dataclasses
+    and the items of tuples, lists, sets and dicts, walked with a stack (models nest deep)."""
     seen: set[int] = set()
     stack: list[object] = list(roots)
     while stack:
@@ -736,15 +743,13 @@ def free_functions(*roots: object) -> list[Function]:
         if isinstance(item, (str, int, float, bool, Fraction, Pos)) or item is None or id(item) in seen:
             continue
         seen.add(id(item))
+        yield item
         if isinstance(item, (tuple, list, frozenset, set)):
             stack.extend(item)
         elif isinstance(item, dict):
             stack.extend(item.values())
         elif dataclasses.is_dataclass(item) and not isinstance(item, type):
-            if isinstance(item, Function) and (item.definition is None or item.preconditions):
-                found.setdefault(id(item), item)
             stack.extend(getattr(item, f.name) for f in dataclasses.fields(item))
-    return sorted(found.values(), key=lambda f: f.qname)
 
 
 # --------------------------------------------------------------------- behaviour
@@ -1070,6 +1075,10 @@ class Project:
     assertions: tuple[Assertion, ...] = ()
     warnings: tuple[Diagnostic, ...] = ()
     sources: dict[str, str] = field(default_factory=dict, compare=False, hash=False)
+    # With `--robotool` (docs/semantics.md §6.6): the ranges RoboTool's bounded arithmetic keeps
+    # results in, by type name (`core_int`), which the model's expressions are rewritten for and
+    # the CSP blocks' `Plus(a, b, T)` reads; empty for exact arithmetic.
+    arithmetic: tuple[tuple[str, Fraction, Fraction], ...] = ()
 
     def element(self, qname: str) -> StateMachine | Controller | Module | OperationDef | None:
         """The machine, controller, module or operation with this qualified name."""

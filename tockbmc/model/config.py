@@ -22,7 +22,7 @@ from __future__ import annotations
 import re
 from collections import defaultdict
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 from lark import Token, Tree
@@ -31,6 +31,15 @@ from tockbmc.model import ast
 from tockbmc.model import instantiation as inst
 from tockbmc.model.diagnostics import Diagnostic, suggestion
 from tockbmc.model.ranges import Range, Ranges, is_path
+from tockbmc.model.readings import (
+    Filled,
+    Reading,
+    bounded_arithmetic,
+    default_value,
+    describe_value,
+    fill_unset,
+    reached,
+)
 
 Element = ast.Behaviour | ast.Controller | ast.Module | ast.RoboticPlatform | ast.Interface
 Checked = ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef
@@ -98,10 +107,15 @@ class Setup:
     range_sources: dict[str, str]
     constant_sources: dict[str, str]
     parameters: tuple[str, ...] = ()  # the constants left parameters: every value of each is considered
+    reading: Reading = Reading.DEFAULT
+    # what the reading filled in that the element reaches: variable or function -> value ("" if kept open)
+    defaults: dict[str, str] = field(default_factory=dict)
+    default_sources: dict[str, str] = field(default_factory=dict)
 
     @property
     def sources(self) -> dict[str, dict[str, str]]:
-        return {"ranges": self.range_sources, "constants": self.constant_sources}
+        out = {"ranges": self.range_sources, "constants": self.constant_sources}
+        return {**out, "defaults": self.default_sources} if self.default_sources else out
 
 
 def declaration_key(v: ast.Variable) -> str:
@@ -143,43 +157,6 @@ def parse_number(text: str, option: str) -> Fraction:
 
 def _num(x: Fraction) -> str:
     return str(x.numerator) if x.denominator == 1 else str(x)
-
-
-def default_value(t: ast.Type, pos: ast.Pos) -> ast.Expr | None:
-    """RoboTool's default value of a type: 0, `true`, the first literal, a record of defaults."""
-    if t in ast.NUMERIC or isinstance(t, ast.GivenType):
-        return ast.Literal(ast.NAT if t != ast.REAL and not isinstance(t, ast.GivenType) else t, pos,
-                           Fraction(0) if t == ast.REAL else 0)
-    if t == ast.BOOLEAN:
-        return ast.Literal(ast.BOOLEAN, pos, True)
-    if isinstance(t, ast.EnumType) and t.literals:
-        args = [default_value(pt, pos) for pt in t.parameters(t.literals[0])]
-        if any(a is None for a in args):
-            return None
-        return ast.EnumLiteral(t, pos, t, t.literals[0], tuple(a for a in args if a is not None))
-    if isinstance(t, ast.RecordType):
-        fields = [(f.name, default_value(f.type, pos)) for f in t.fields]
-        if all(v is not None for _, v in fields):
-            return ast.RecordLiteral(t, pos, tuple((n, v) for n, v in fields if v is not None))
-    return None
-
-
-def describe_value(e: ast.Expr) -> str:
-    """A value as the report prints it."""
-    if isinstance(e, ast.Literal):
-        if isinstance(e.value, bool):
-            return "true" if e.value else "false"
-        if isinstance(e.value, Fraction):
-            return _num(e.value)
-        return str(e.value)
-    if isinstance(e, ast.EnumLiteral):
-        args = f"({', '.join(describe_value(a) for a in e.args)})" if e.args else ""
-        return f"{e.enum.name}::{e.literal}{args}"
-    if isinstance(e, ast.RecordLiteral):
-        return "(" + ", ".join(f"{n}={describe_value(v)}" for n, v in e.fields) + ")"
-    if isinstance(e, ast.Unary) and e.op == "-":
-        return f"-{describe_value(e.operand)}"
-    return "an expression"
 
 
 def _value_of_text(text: str, t: ast.Type, name: str) -> ast.Expr:
@@ -664,9 +641,13 @@ class Configuration:
 
     def __init__(self, project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
                  settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
-                 default_ranges: Ranges | None = None, instantiation: bool = True, open_defaults: bool = False):
-        self.names = Names(project)
-        self.open_defaults = open_defaults  # a constant with no value anywhere is a parameter, not RoboTool's default
+                 default_ranges: Ranges | None = None, instantiation: bool = True, open_defaults: bool | None = None,
+                 reading: Reading = Reading.DEFAULT):
+        self.reading = reading
+        # a constant with no value anywhere is a parameter, not RoboTool's default (by default: in the open reading)
+        self.open_defaults = reading == Reading.OPEN if open_defaults is None else open_defaults
+        if reading == Reading.ROBOTOOL and default_ranges is None:
+            default_ranges = ROBOTOOL_RANGES
         self.warnings: list[Diagnostic] = []
         self.texts: dict[str, str] = {}  # instantiation files read, for diagnostics
         self._ranges: dict[str, _RangeEntry] = {}
@@ -674,7 +655,16 @@ class Configuration:
             if r is not None:
                 self._ranges[name] = _RangeEntry(r, ROBOTOOL_DEFAULT)
         self._instantiated: dict[str, tuple[ast.Expr, Source]] = {}
+        self._unread: dict[str, ast.Pos] = {}  # functions whose instantiation's body is not understood, by qname
         self.project = self._read_instantiation(project) if instantiation else project
+        self.filled: tuple[Filled, ...] = ()  # what the reading filled in (none in the open one)
+        # by the element's id, the element kept beside what it reaches so that the id is never another's
+        self._reached: dict[int, tuple[Checked, tuple[Filled, ...]]] = {}
+        if reading != Reading.OPEN:
+            self.project, self.filled = fill_unset(self.project, self._unread)
+        if reading == Reading.ROBOTOOL:
+            self.project = bounded_arithmetic(self.project, self._core_ranges(ranges))
+        self.names = Names(self.project)  # of the project the checks read: instance chains are its elements
         self._flags: dict[str, _ConstEntry] = {}
         for name, r in _range_items(ranges):
             key, t = self.names.range_type(name)
@@ -724,11 +714,18 @@ class Configuration:
 
     # --- ranges
 
+    def _core_ranges(self, flags: Ranges | Mapping[str, Range | None] | None) -> dict[str, tuple[Fraction, Fraction]]:
+        """The ranges of `core_int`, `core_nat` and `core_real` (RoboTool's default, the instantiation's,
+        the command line's), which RoboTool's bounded arithmetic keeps results in."""
+        found = {k: e.range for k, e in self._ranges.items() if k in CORE_TYPES}
+        found.update({k: r for k, r in _range_items(flags) if k in CORE_TYPES})
+        return {k: (r.low, r.high) for k, r in found.items() if r is not None}
+
     def ranges(self) -> Ranges:
         """The ranges every assertion is checked with."""
         by_type = {k: e.range for k, e in self._ranges.items() if e.range is not None and not is_path(k)}
         by_path = {k: e.range for k, e in self._ranges.items() if e.range is not None and is_path(k)}
-        return Ranges(by_type, by_path)
+        return Ranges(by_type, by_path, integral_reals=self.reading == Reading.ROBOTOOL)
 
     def range_sources(self) -> dict[str, str]:
         return {k: str(e.source) for k, e in self._ranges.items() if e.range is not None}
@@ -788,7 +785,21 @@ class Configuration:
             described[shown] = describe_value(entry.value)
             sources[shown] = str(entry.source)
         parameters = tuple(sorted(k for k, e in entries.items() if e.value is None and k in described))
-        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources, parameters)
+        filled = self._filled_for(element)
+        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources, parameters,
+                     self.reading, {f.name: f.value for f in filled}, {f.name: f.source for f in filled})
+
+    def _filled_for(self, element: Checked) -> tuple[Filled, ...]:
+        """What the reading filled in that `element` reaches (once per element: a walk of its parts)."""
+        if id(element) not in self._reached:
+            filled = reached(self.filled, element)
+            if isinstance(element, ast.Behaviour):  # its required variables start anywhere (docs/semantics.md §5.5)
+                own = (*element.provided_interfaces, *element.used_interfaces)
+                filled = tuple(f for f in filled if not (isinstance(f.target, ast.Variable)
+                                                         and f.target.kind == "interface"
+                                                         and not ast.in_interfaces(f.target, own)))
+            self._reached[id(element)] = (element, filled)
+        return self._reached[id(element)][1]
 
     def _per_instance(self, a: ast.Assertion | None, element: Checked, slots: list[_Slot],
                       entries: dict[str, _ConstEntry]) -> dict[tuple[tuple[str, ...], str], _ConstEntry]:
@@ -988,6 +999,7 @@ class Configuration:
                                       f"not used{suggestion(name, known)}")
             except inst.NotUnderstood as exc:
                 if name in functions:
+                    self._unread[functions[name].qname] = exc.pos
                     self._warn(exc.pos, f"unsupported: {exc.what}; function {functions[name].name} stays "
                                         "uninterpreted (docs/semantics.md §6.4)")
                 else:
@@ -1058,7 +1070,7 @@ def _referenced(clauses: dict[str, list[inst.Definition]]) -> set[str]:
 def configure(project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,
               settings: Mapping[str, ast.Expr | str] | None = None, params: Iterable[str] = (),
               default_ranges: Ranges | None = None, instantiation: bool = True,
-              open_defaults: bool = False) -> Configuration:
+              open_defaults: bool | None = None, reading: Reading = Reading.DEFAULT) -> Configuration:
     """The configuration of a project's checks (see `Configuration`)."""
-    return Configuration(project, ranges, settings, params, default_ranges, instantiation, open_defaults)
+    return Configuration(project, ranges, settings, params, default_ranges, instantiation, open_defaults, reading)
 

@@ -506,25 +506,31 @@ def with_functions(project: ast.Project, defined: dict[int, ast.Function]) -> as
     called.  Parts that call none of them stay the same objects (engines key them by identity)."""
     if not defined:
         return project
-    memo: dict[int, object] = {}
     limit = sys.getrecursionlimit()
     sys.setrecursionlimit(max(limit, 20_000))
     try:
-        out = _rebuild(project, defined, memo)
+        return replaced(project, dict(defined), {})
     finally:
         sys.setrecursionlimit(limit)
+
+
+def replaced(project: ast.Project, new: dict[int, object], memo: dict[int, object]) -> ast.Project:
+    """The project with each part `id(old) -> new` of `new` (a function, a variable) put in its
+    place everywhere it occurs; `memo` is left mapping the id of every part rebuilt to what it
+    became.  Parts that hold none of them stay the same objects (engines key them by identity)."""
+    out = _rebuild(project, new, memo)
     assert isinstance(out, ast.Project)
     return out
 
 
-def _rebuild(obj: object, defined: dict[int, ast.Function], memo: dict[int, object]) -> object:
+def _rebuild(obj: object, defined: dict[int, object], memo: dict[int, object]) -> object:
     key = id(obj)
     if key in memo:
         return memo[key]
     out: object = obj
-    if isinstance(obj, ast.Function) and key in defined:
+    if key in defined:
         out = defined[key]
-        # the new definition may itself call replaced functions
+        # the new part may itself hold replaced ones (a definition calling a replaced function)
         out = _rebuild_fields(out, defined, memo)
     elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         out = _rebuild_fields(obj, defined, memo)
@@ -540,7 +546,7 @@ def _rebuild(obj: object, defined: dict[int, ast.Function], memo: dict[int, obje
     return out
 
 
-def _rebuild_fields(obj: object, defined: dict[int, ast.Function], memo: dict[int, object]) -> object:
+def _rebuild_fields(obj: object, defined: dict[int, object], memo: dict[int, object]) -> object:
     changes = {}
     for f in dataclasses.fields(obj):  # type: ignore[arg-type]
         if not f.compare:  # caches and texts, not structure

@@ -28,6 +28,8 @@ class Ranges:
     # Names (types or paths, as above) whose bounds are parameters: symbols rather than numbers,
     # so that one query covers every range (`tockbmc explore`).  They win over a range of the same name.
     parametric: tuple[str, ...] = ()
+    # Whether the environment's reals are the integers of their range, as FDR's are (`--robotool`).
+    integral_reals: bool = False
 
     def describe(self) -> dict[str, str]:
         return {**{k: str(v) for k, v in self.by_type.items()}, **{k: str(v) for k, v in self.by_path.items()},

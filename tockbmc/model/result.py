@@ -98,7 +98,12 @@ class Result:
     pos: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     constants: dict[str, str] = field(default_factory=dict)  # constant (owner::name) -> value, or "parameter (…)"
-    sources: dict[str, dict[str, str]] = field(default_factory=dict)  # "ranges"/"constants" -> name -> source
+    sources: dict[str, dict[str, str]] = field(default_factory=dict)  # "ranges"/"constants"/"defaults" -> name -> source
+    reading: str = "default"  # the model's reading: default | open | robotool (`model.readings.Reading`)
+    # what the reading filled in that the verdict rests on: a variable's initial value, a function's
+    # placeholder ("" where the function stays open under its contract), by qualified name
+    defaults: dict[str, str] = field(default_factory=dict)
+    not_reproduced: tuple[str, ...] = ()  # what of the reading tockbmc does not reproduce (`--robotool`)
     # For a nondeterminism: the second run, with the visible events of `trace` but its last, ending
     # stable where that last event is refused.
     other_trace: tuple[TraceStep, ...] = ()
@@ -106,7 +111,10 @@ class Result:
     def to_json(self) -> dict[str, Any]:
         return {
             "assertion": self.assertion, "text": self.text, "verdict": self.verdict.value,
-            "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "ranges": self.ranges, "constants": self.constants, "sources": self.sources, "engine": self.engine,
+            "proof": self.proof.value, "bound": self.bound, "depth": self.depth, "reading": self.reading,
+            "not_reproduced": list(self.not_reproduced),
+            "ranges": self.ranges, "constants": self.constants, "defaults": self.defaults, "sources": self.sources,
+            "engine": self.engine,
             "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
             "trace": [s.to_json() for s in self.trace],
             **({"other_trace": [s.to_json() for s in self.other_trace]} if self.other_trace else {}),

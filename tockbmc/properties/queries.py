@@ -85,7 +85,8 @@ def _query(project: ast.Project, a: ast.Assertion) -> Query:
                                 "was not found in any public source (docs/robotool-evidence.md §8), so it is not "
                                 "checked")
     ev = Evaluator(_top_level(project), _any_block(project), _literals(project), _memory_channels(project),
-                   _enumerations(project), _record_fields(project))
+                   _enumerations(project), _record_fields(project),
+                   {name: (low, high) for name, low, high in project.arithmetic})
     sem = Semantics(ev, timed=timed)
     if a.kind in ("refines", "equals"):
         return _refinement(project, a, ev, sem)

@@ -292,8 +292,11 @@ class Evaluator:
     def __init__(self, lookup_top: Callable[[str], Definition | None], block: ast.CspBlock,
                  literals: dict[str, EnumValue] | None = None, memory: frozenset[str] = frozenset(),
                  enumerations: dict[str, frozenset[EnumValue]] | None = None,
-                 fields: dict[str, tuple[str, int]] | None = None):
+                 fields: dict[str, tuple[str, int]] | None = None,
+                 arithmetic: dict[str, tuple[Fraction, Fraction]] | None = None):
         self.lookup_top = lookup_top
+        # with `--robotool`, the ranges RoboTool's bounded arithmetic keeps results in, by type name
+        self.arithmetic = arithmetic or {}
         self.block = block
         self.literals = literals or {}
         self.fields = fields or {}  # RoboTool's `pkg_R_f`: a record's field by name and by place
@@ -467,7 +470,7 @@ class Evaluator:
         generated = top is not None and top.block.name == "Instantiations"
         if found is None and (top is None or generated) and name in _BOUNDED_ARITHMETIC \
                 and len(args_t) == _BOUNDED_ARITHMETIC[name] + 1:
-            return self.bounded_arithmetic(t, name, args_t[:-1], env)
+            return self.bounded_arithmetic(t, name, args_t[:-1], env, args_t[-1])
         args = tuple(self.eval(a, env) for a in args_t)
         if found is not None and found[0] == "def":
             d, denv = cast("tuple[Definition, Env]", found[1])
@@ -496,20 +499,39 @@ class Evaluator:
             return v[place]
         raise self.error(t, f"'{name}' reads field {field} of a record, and this is not one")
 
-    def bounded_arithmetic(self, t: Tree, name: str, args_t: list, env: Env) -> int:
+    def bounded_arithmetic(self, t: Tree, name: str, args_t: list, env: Env, type_t: Tree | Token) -> int:
         """RoboTool's `Plus(a, b, T)`, `Minus`, `Mult`, `Div`, `Modulus`, `Neg(a, T)`: its generated
-        instantiation keeps a result outside T at the first operand; tockbmc's model arithmetic is
-        exact (docs/semantics.md §6.5), and so is the specification's, the type argument unread, so
-        that a specification that repeats the model's computation computes what the model does."""
+        instantiation keeps a result outside T at the first operand. The model's arithmetic is exact
+        by default (docs/semantics.md §6.5), and so is the specification's, the type argument unread,
+        so that a specification that repeats the model's computation computes what the model does;
+        with `--robotool` (§6.6) both are RoboTool's, T read as the reading's range of `core_int`,
+        `core_nat`, `core_real`, or as the set written."""
         xs = [self.number(a, env) for a in args_t]
         if name == "Neg":
-            return -xs[0]
-        x, y = xs
-        if name in ("Div", "Modulus") and y == 0:
-            raise self.error(t, "division by zero")
-        if name == "Div":
-            return _div(x, y)
-        return {"Plus": x + y, "Minus": x - y, "Mult": x * y, "Modulus": x % y if y else 0}[name]
+            exact = -xs[0]
+        else:
+            x, y = xs
+            if name in ("Div", "Modulus") and y == 0:
+                raise self.error(t, "division by zero")
+            exact = _div(x, y) if name == "Div" else {"Plus": x + y, "Minus": x - y, "Mult": x * y,
+                                                      "Modulus": x % y if y else 0}[name]
+        if not self.arithmetic:
+            return exact
+        kept = self._bounds(type_t, env)
+        return exact if kept is None or kept(exact) else xs[0]
+
+    def _bounds(self, type_t: Tree | Token, env: Env) -> Callable[[int], bool] | None:
+        """Membership in the type argument of RoboTool's arithmetic helpers (None: unbounded)."""
+        name = str(type_t.children[0]) if isinstance(type_t, Tree) and type_t.data == "name" else None
+        if name is not None and name in self.arithmetic:
+            low, high = self.arithmetic[name]
+            return lambda v: low <= v <= high
+        if name is not None and name in ("core_int", "core_nat", "core_real"):
+            return None
+        values = self.eval(type_t, env)
+        if isinstance(values, frozenset):
+            return lambda v: v in values
+        raise self.error(type_t, "the type argument of RoboTool's arithmetic is not a set")
 
     def replicated(self, t: Tree, env: Env) -> Proc:
         op, var, over, body = t.children

@@ -108,6 +108,8 @@ def print_scope(explorations: list[Exploration], bound: int, console: Console) -
     if assumed:
         console.print(f"every point has: {escape(', '.join(assumed))}")
     console.print(f"bound: {bound} steps")
+    console.print("reading: open (variables without an initial value start at any value, functions without a "
+                  "body are any function meeting their contract)")
 
 
 def common_fixed(explorations: list[Exploration]) -> dict[str, str]:

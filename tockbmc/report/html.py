@@ -16,6 +16,7 @@ from pathlib import Path
 from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result, TraceStep, Verdict
 from tockbmc.report.results import summary
 from tockbmc.report.sequence import diagram
@@ -89,23 +90,24 @@ def sections(results: Sequence[Result]) -> list[Section]:
     return out
 
 
-def _scope(results: Sequence[Result]) -> tuple[int | None, dict[str, str], str]:
-    """The bound, ranges and engine of the run (the same for every result that searched)."""
+def _scope(results: Sequence[Result]) -> tuple[int | None, dict[str, str], str, str]:
+    """The bound, ranges, engine and reading of the run (the same for every result that searched)."""
     searched = [r for r in results if r.bound is not None] or list(results)
     if not searched:
-        return None, {}, ""
+        return None, {}, "", ""
     first = searched[0]
-    return first.bound, first.ranges, first.engine
+    return first.bound, first.ranges, first.engine, first.reading
 
 
 def render_report(results: Sequence[Result], *, title: str, version: str) -> str:
     """The HTML page of a run's results; `title` names what was checked (the model's paths)."""
     env = Environment(loader=PackageLoader("tockbmc.report", "templates"), autoescape=select_autoescape(["html"]),
                       trim_blocks=True, lstrip_blocks=True)
-    bound, ranges, engine = _scope(results)
+    bound, ranges, engine, reading = _scope(results)
     counts = {k: n for k, n in summary(results).items() if n}
     return env.get_template("report.html").render(
         title=title, version=version, bound=bound, ranges=ranges, engine=engine, counts=counts,
+        reading=reading, reading_summary=Reading(reading).summary if reading else "",
         sections=sections(results), explicit=any("states" in r.extra for r in results))
 
 

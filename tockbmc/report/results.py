@@ -28,7 +28,7 @@ def summary(results: Iterable[Result]) -> dict[str, int]:
     return counts
 
 
-SCHEMA_VERSION = 1  # of `results.schema.json`: raised whenever a field changes meaning or goes away
+SCHEMA_VERSION = 2  # of `results.schema.json`: raised whenever a field changes meaning or goes away
 
 
 def to_json(results: list[Result], version: str, status: str = "checked",
@@ -52,7 +52,7 @@ def schema() -> dict[str, Any]:
 
 def _scope(r: Result) -> str:
     ranges = ", ".join(f"{k}={v}" for k, v in r.ranges.items()) or "none (unbounded data)"
-    return f"bound {r.bound} steps; ranges: {ranges}"
+    return f"bound {r.bound} steps; ranges: {ranges}; reading: {r.reading}"
 
 
 def configuration(r: Result) -> str:
@@ -63,7 +63,12 @@ def configuration(r: Result) -> str:
     if r.constants:
         line += "; constants: " + ", ".join(f"{k}={v} [{constants[k]}]" if k in constants else f"{k}={v}"
                                              for k, v in r.constants.items())
-    return line
+    defaults = r.sources.get("defaults", {})
+    if r.defaults:
+        line += "; defaults: " + ", ".join(f"{k}={v} [{defaults.get(k, '')}]" if v else f"{k} [{defaults.get(k, '')}]"
+                                            for k, v in r.defaults.items())
+    missing = f" (not reproduced: {'; '.join(r.not_reproduced)})" if r.not_reproduced else ""
+    return f"reading: {r.reading}{missing}; {line}"
 
 
 class ResultTable:

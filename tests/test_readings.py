@@ -1,0 +1,294 @@
+"""The three readings of a model (docs/semantics.md §6.6): RoboTool's instantiation by default,
+FDR's finite check with `--robotool`, nothing filled in with `--open`; each decided by both engines."""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from conftest import write_files
+
+import tockbmc
+from tockbmc.check import check
+from tockbmc.cli import cli
+from tockbmc.explicit.engine import check_explicit
+from tockbmc.model import ast
+from tockbmc.model.config import configure
+from tockbmc.model.contracts import placeholder_meets
+from tockbmc.model.ranges import Range, Ranges
+from tockbmc.model.readings import Reading
+from tockbmc.model.result import Result
+from tockbmc.report.html import render_report
+
+SMALL = Ranges({"core_int": Range(Fraction(-3), Fraction(3))})
+
+# x, u and q start where the reading puts them; a state for each value the checks tell apart.
+UNSET = """\
+import sequence_toolkit::*
+stm M {
+  var x : int
+  var q : boolean
+  var s : Seq(int)
+  initial i
+  state s0 { entry x = x + 1 }
+  state one {}
+  state three {}
+  state yes {}
+  state empty {}
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to one condition x == 1 }
+  transition t2 { from s0 to three condition x == 3 }
+  transition t3 { from s0 to yes condition q }
+  transition t4 { from s0 to empty condition size(s) == 0 }
+}
+"""
+UNSET_ASSERTIONS = """\
+assertion One: one is reachable in M.
+assertion Three: three is reachable in M.
+assertion Yes: yes is reachable in M.
+assertion Empty: empty is reachable in M.
+"""
+
+
+def both(tmp_path: Path, files: dict[str, str], reading: Reading, ranges: Ranges = SMALL,
+         bound: int = 12) -> tuple[dict[str, Result], dict[str, Result]]:
+    """BMC's and the explicit engine's results, by assertion, in `reading`."""
+    write_files(tmp_path, files)
+    config = configure(tockbmc.load(tmp_path), ranges, reading=reading)
+    bmc = {r.assertion: r for r in check(config.project, bound=bound, config=config, timeout=60)}
+    explicit = {r.assertion: r for r in check_explicit(config.project, None, bound, ranges, {}, 60, 100_000,
+                                                       config=config)}
+    return bmc, explicit
+
+
+def verdicts(results: dict[str, Result]) -> dict[str, str]:
+    return {n: r.verdict.value for n, r in results.items()}
+
+
+def test_a_variable_without_an_initial_value_starts_at_its_types_default(tmp_path: Path) -> None:
+    """By default x starts at 0, q at true, s at <> (RoboTool's memory: `Memory_x(0)`), in both
+    engines; each result lists those defaults with where they come from."""
+    files = {"m.rct": UNSET, "m.assertions": UNSET_ASSERTIONS}
+    bmc, explicit = both(tmp_path, files, Reading.DEFAULT, ranges=Ranges({**SMALL.by_type}, {"M::s": Range(Fraction(0), Fraction(1))}))
+    expected = {"One": "holds", "Three": "violated", "Yes": "holds", "Empty": "holds"}
+    assert verdicts(bmc) == expected and verdicts(explicit) == expected, [r.reason for r in bmc.values()]
+    for r in (bmc["Three"], explicit["Three"]):
+        assert r.reading == "default"
+        assert r.defaults == {"M::x": "0", "M::q": "true", "M::s": "<>"}
+        assert r.sources["defaults"]["M::x"].startswith("RoboTool default (") and "m.rct:3" in r.sources["defaults"]["M::x"]
+
+
+def test_the_open_reading_starts_a_variable_without_an_initial_value_anywhere(tmp_path: Path) -> None:
+    """With `--open`, x starts at any value of core_int: `three` is reachable, from the start 2
+    the witness chose."""
+    rct = UNSET.replace("  var s : Seq(int)\n", "").replace("  transition t4 { from s0 to empty condition size(s) == 0 }\n", "")
+    files = {"m.rct": rct, "m.assertions": "assertion Three: three is reachable in M.\n"}
+    bmc, explicit = both(tmp_path, files, Reading.OPEN)
+    assert bmc["Three"].verdict == explicit["Three"].verdict == "holds", (bmc["Three"].reason, explicit["Three"].reason)
+    assert bmc["Three"].reading == "open" and bmc["Three"].defaults == {}
+
+
+FUNCTIONS = """\
+function f(n : int) : int { }
+function pos(n : int) : int {
+  postcondition result >= 0
+}
+function bigger(n : int) : int {
+  precondition n > 0
+  postcondition result > n
+}
+function ok(n : int) : boolean { }
+stm M {
+  var x : int = 0
+  initial i
+  state s0 { entry x = f(x) + pos(x) }
+  state zero {}
+  state other {}
+  state fine {}
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to zero condition x == 0 }
+  transition t2 { from s0 to other condition x != 0 }
+  transition t3 { from s0 to fine condition ok(x) }
+}
+"""
+FUNCTIONS_ASSERTIONS = """\
+assertion Zero: zero is reachable in M.
+assertion Other: other is not reachable in M.
+assertion Fine: fine is reachable in M.
+"""
+
+
+def test_a_function_without_a_body_is_robotools_placeholder_in_both_engines(tmp_path: Path) -> None:
+    """f and pos are `0` (pos's placeholder meets `result >= 0`), ok is `true`; bigger's `0`
+    contradicts `result > n`, so bigger stays any function meeting its contract, and says why. The
+    explicit engine, which cannot apply a function nobody set, decides the model."""
+    bmc, explicit = both(tmp_path, {"m.rct": FUNCTIONS, "m.assertions": FUNCTIONS_ASSERTIONS}, Reading.DEFAULT)
+    expected = {"Zero": "holds", "Other": "holds", "Fine": "holds"}
+    assert verdicts(bmc) == expected, [r.reason for r in bmc.values()]
+    assert verdicts(explicit) == expected, [r.reason for r in explicit.values()]
+    r = bmc["Other"]
+    assert r.defaults == {"f": "0", "pos": "0", "ok": "true"}  # bigger is not called
+    [kept] = [f for f in configure(tockbmc.load(tmp_path)).filled if f.name == "bigger"]
+    assert kept.value == "" and "the placeholder 0 contradicts its postcondition" in kept.source
+
+
+def test_the_open_reading_keeps_a_function_without_a_body_open(tmp_path: Path) -> None:
+    """With `--open`, f is any function: `other is not reachable` is violated (f(0) = 1), and the
+    explicit engine cannot apply f."""
+    bmc, explicit = both(tmp_path, {"m.rct": FUNCTIONS, "m.assertions": FUNCTIONS_ASSERTIONS}, Reading.OPEN)
+    assert bmc["Other"].verdict == "violated"
+    assert explicit["Other"].verdict == "unsupported" and "uninterpreted function" in (explicit["Other"].reason or "")
+
+
+@pytest.mark.parametrize(("post", "meets"), [("result >= 0", True), ("result > n", False),
+                                             ("result == 0 \\/ n < 0", True), ("result <= n * n", True),
+                                             ("forall k : int @ result <= k * k", None)])
+def test_a_placeholder_is_checked_against_the_postcondition_for_every_argument(
+        tmp_path: Path, post: str, meets: bool | None) -> None:
+    write_files(tmp_path, {"m.rct": f"function g(n : int) : int {{\n  postcondition {post}\n}}\n"
+                                    "stm M { initial i state s {} transition t { from i to s } }\n"})
+    [g] = tockbmc.load(tmp_path).functions
+    assert placeholder_meets(g, ast.Literal(ast.NAT, g.pos, 0)) is meets
+
+
+OVERFLOW = """\
+stm M {
+  var x : int = 2
+  var y : int = -7
+  var z : int = 0
+  var r : real = 0
+  event e : real
+  initial i
+  state s0 { entry x = x + 1 ; z = y / 2 }
+  state three {}
+  state two {}
+  state truncated {}
+  state half {}
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to three condition x == 3 }
+  transition t2 { from s0 to two condition x == 2 }
+  transition t3 { from s0 to truncated condition z == -3 }
+  transition t4 { from s0 to half trigger e?r condition r > 0 /\\ r < 1 }
+}
+"""
+OVERFLOW_ASSERTIONS = """\
+assertion Three: three is reachable in M.
+assertion Two: two is reachable in M.
+assertion Truncated: truncated is reachable in M.
+assertion Half: half is reachable in M.
+"""
+
+
+def test_robotool_reading_is_fdrs_bounded_arithmetic_over_integers(tmp_path: Path) -> None:
+    """With `--robotool` (core_int=-2..2): `2 + 1` leaves the range and RoboTool's `Plus` keeps 2;
+    `-7 / 2` rounds towards zero to -3 (-4 is not in the range either, so Div keeps -7 then:
+    `truncated` is not reachable); a real input strictly between 0 and 1 is not an integer."""
+    files = {"m.rct": OVERFLOW, "m.assertions": OVERFLOW_ASSERTIONS}
+    bmc, explicit = both(tmp_path, files, Reading.ROBOTOOL, ranges=Ranges())
+    expected = {"Three": "violated", "Two": "holds", "Truncated": "violated", "Half": "violated"}
+    assert verdicts(bmc) == expected, [r.reason for r in bmc.values()]
+    assert verdicts(explicit) == expected, [r.reason for r in explicit.values()]
+    assert bmc["Two"].reading == "robotool" and bmc["Two"].ranges["core_int"] == "-2..2"
+    assert any("core_clock_type" in n for n in bmc["Two"].not_reproduced)
+    default, _ = both(tmp_path, files, Reading.DEFAULT, ranges=Ranges({"core_real": Range(Fraction(-2), Fraction(2))}))
+    assert verdicts(default) == {"Three": "holds", "Two": "violated", "Truncated": "violated", "Half": "holds"}
+
+
+def test_robotool_division_rounds_towards_zero_within_the_range(tmp_path: Path) -> None:
+    """`-7 / 2` is -3 in FDR (towards zero), -4 in tockbmc's exact reading (Euclidean)."""
+    files = {"m.rct": OVERFLOW, "m.assertions": OVERFLOW_ASSERTIONS}
+    wide = Ranges({"core_int": Range(Fraction(-9), Fraction(9)), "core_real": Range(Fraction(-2), Fraction(2))})
+    write_files(tmp_path, files)
+    project = tockbmc.load(tmp_path)
+    for reading, truncated in ((Reading.ROBOTOOL, "holds"), (Reading.DEFAULT, "violated")):
+        config = configure(project, wide, reading=reading)
+        [r] = check(config.project, ["Truncated"], bound=12, config=config, timeout=60)
+        [e] = check_explicit(config.project, ["Truncated"], 12, wide, {}, 60, 100_000, config=config)
+        assert r.verdict == e.verdict == truncated, (reading, r.reason, e.reason)
+
+
+SHARED_REQUIRED = """\
+interface I { var v : int }
+stm R {
+  requires I
+  initial i
+  state s {}
+  state big {}
+  transition t0 { from i to s }
+  transition t1 { from s to big condition v > 1 }
+}
+"""
+
+
+def test_a_variable_a_machine_checked_alone_requires_starts_anywhere_in_every_reading(tmp_path: Path) -> None:
+    """RoboTool's environment may write it at any time (`set_EXT_v`), which is not modelled: it
+    stays open rather than start at 0, and is not listed as a default."""
+    bmc, explicit = both(tmp_path, {"m.rct": SHARED_REQUIRED, "m.assertions": "assertion B: big is reachable in R.\n"},
+                         Reading.DEFAULT)
+    assert bmc["B"].verdict == explicit["B"].verdict == "holds"
+    assert bmc["B"].defaults == {}
+
+
+def test_the_readings_on_the_command_line(tmp_path: Path) -> None:
+    """`--open` and `--robotool` exclude each other; the text and the JSON say the reading and the
+    defaults; the JSON validates against schema version 2."""
+    write_files(tmp_path, {"m.rct": UNSET, "m.assertions": "assertion Three: three is reachable in M.\n"})
+    both_flags = CliRunner().invoke(cli, ["check", str(tmp_path), "--open", "--robotool", "-j", "1"])
+    assert both_flags.exit_code == 2 and "exclude each other" in both_flags.output
+    text = CliRunner().invoke(cli, ["check", str(tmp_path), "-j", "1"])
+    assert text.exit_code == 10 and "reading: default;" in text.output and "M::x=0 [RoboTool default" in text.output
+    opened = CliRunner().invoke(cli, ["check", str(tmp_path), "--open", "--format", "json", "-j", "1"])
+    doc = json.loads(opened.output)
+    assert doc["schema_version"] == 2 and doc["results"][0]["reading"] == "open"
+    assert doc["results"][0]["verdict"] == "holds" and doc["results"][0]["defaults"] == {}
+    robotool = CliRunner().invoke(cli, ["check", str(tmp_path), "--robotool", "--format", "json", "-j", "1"])
+    [r] = json.loads(robotool.output)["results"]
+    assert r["reading"] == "robotool" and r["ranges"]["core_int"] == "-2..2" and r["not_reproduced"]
+
+
+def test_the_html_report_says_the_reading_and_the_defaults(tmp_path: Path) -> None:
+    write_files(tmp_path, {"m.rct": UNSET, "m.assertions": "assertion Three: three is reachable in M.\n"})
+    config = configure(tockbmc.load(tmp_path), SMALL)
+    page = render_report(check(config.project, config=config, bound=10), title="m", version="0")
+    assert "<dt>Reading</dt>" in page and "default: RoboTool&#39;s instantiation" in page
+    assert "<code>M::x = 0</code>" in page
+
+
+PLUS_SPEC = """\
+stm M {
+  var x : int = 2
+  event o : int
+  initial i
+  state s { entry x = x + 1 ; o!x }
+  transition t0 { from i to s }
+}
+"""
+PLUS_ASSERTIONS = """\
+timed csp Bounded csp-begin
+Timed(OneStep) {
+  Bounded = M::o.out!Plus(2, 1, core_int) -> STOP
+}
+csp-end
+timed csp Three csp-begin
+Timed(OneStep) {
+  Three = M::o.out!3 -> STOP
+}
+csp-end
+timed assertion A: M refines Bounded in the traces model.
+timed assertion B: M refines Three in the traces model.
+"""
+
+
+def test_a_specifications_plus_is_robotools_bounded_arithmetic_with_robotool(tmp_path: Path) -> None:
+    """RoboTool's `Plus(2, 1, core_int)` in a CSP block is 3 by default, as the model's `x + 1` is,
+    and 2 with `--robotool`, as the model's is there: `A` holds in both readings, `B` (which
+    expects 3) only by default."""
+    write_files(tmp_path, {"m.rct": PLUS_SPEC, "m.assertions": PLUS_ASSERTIONS})
+    project = tockbmc.load(tmp_path)
+    for reading, b in ((Reading.DEFAULT, "holds"), (Reading.ROBOTOOL, "violated")):
+        config = configure(project, reading=reading)
+        found = {r.assertion: r.verdict.value for r in check(config.project, bound=12, config=config, timeout=60)}
+        assert found == {"A": "holds", "B": b}, (reading, found)
