@@ -1,11 +1,13 @@
 """Check the supported assertions of RoboTool's regression suite at a given bound and print the counts.
 
-Run: python benchmarks/conformance.py [--bound 40] [--timeout 120] [--jobs N]
+Run: python benchmarks/conformance.py [--bound 40] [--timeout 120] [--jobs N] [--reading robotool|default|open]
 With --jobs N (default 1) the assertions of every case are decided in N worker processes
 (`tockbmc.parallel`, as `check -j N`); the lines and counts are the same, in the same order.
-Each case is checked as RoboTool reads it: RoboTool's default ranges (core_int=-2..2,
-core_real=-2..2, core_nat=0..2) under the case's own instantiation, and RoboTool's default
-values for constants without one.  Every assertion of the suite is written to hold, so any
+Each case is checked as RoboTool reads it (`--reading robotool`, the default here: FDR's finite
+check, docs/semantics.md §6.6): RoboTool's default ranges (core_int=-2..2, core_real=-2..2,
+core_nat=0..2) under the case's own instantiation, RoboTool's default values for constants and
+variables without one and placeholders for functions without a body, and its bounded arithmetic;
+`--reading default` keeps the default ranges but reads the data exact.  Every assertion of the suite is written to hold, so any
 other definite verdict is one decided differently from RoboTool.  One line per assertion (an
 `unsupported` one with the start of its reason), then the counts.
 """
@@ -20,6 +22,7 @@ from pathlib import Path
 import tockbmc
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.model.config import ROBOTOOL_RANGES, configure
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result
 from tockbmc.parallel import InProcess, InProcesses, Job, Work
 
@@ -32,6 +35,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--corpus", type=Path, default=CORPUS)
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (1: this process)")
+    parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.ROBOTOOL.value,
+                        help="the reading the cases are checked in (docs/semantics.md §6.6)")
     args = parser.parse_args()
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
@@ -43,7 +48,8 @@ def main() -> None:
         except tockbmc.ModelError:
             counts["case does not load"] += 1
             continue
-        job = Job(configure(project, default_ranges=ROBOTOOL_RANGES), args.bound, args.timeout)
+        job = Job(configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading(args.reading)), args.bound,
+                  args.timeout)
         work += [(job, i) for i in range(len(job.config.project.assertions))]
         cases += [case.name] * len(job.config.project.assertions)
     runner = InProcess(work) if args.jobs == 1 else InProcesses(work, args.jobs)

@@ -42,15 +42,19 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from differential_cases import DATA_RANGES, RANGES, compare, random_case  # noqa: E402
 
 import tockbmc  # noqa: E402
+from tockbmc.model.readings import Reading  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool, bool]) -> tuple[int, list | str | None]:
-    seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional, enums, durings = job
+def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool, bool, bool, str]
+        ) -> tuple[int, list | str | None]:
+    (seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional, enums, durings,
+     unset, reading) = job
     # past the timeout an outcome is unknown
     rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock, operations, bidirectional,
-                                  enums, durings)
+                                  enums, durings, unset)
     try:
-        return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES)
+        return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES,
+                             reading=Reading(reading))
     except tockbmc.ModelError:
         return seed, None
     except Exception as exc:  # an internal error is a finding too: reported with its seed, the run goes on
@@ -80,6 +84,11 @@ def main() -> None:
                         help="machines with a value of an enumeration whose literals take parameters")
     parser.add_argument("--durings", action="store_true",
                         help="machines whose composite state has a during action, beside its children")
+    parser.add_argument("--unset", action="store_true",
+                        help="machines with variables without an initial value, functions without a body and "
+                             "arithmetic that leaves core_int, for the reading to fill in")
+    parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.DEFAULT.value,
+                        help="the reading both engines check in (docs/semantics.md §6.6)")
     parser.add_argument("--log", type=Path, default=None,
                         help="append each case's outcome to this file (JSON lines: commit, options, seed, counts, "
                              "disagreements); a case already there for this commit and these options is not run "
@@ -97,7 +106,8 @@ def main() -> None:
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
     seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
-              args.operations, args.bidirectional, args.enums, args.durings) for seed in range(args.seed, args.seed + args.cases)
+              args.operations, args.bidirectional, args.enums, args.durings, args.unset, args.reading)
+             for seed in range(args.seed, args.seed + args.cases)
              if seed not in logged]
     if logged:
         print(f"{args.cases - len(seeds)} of the {args.cases} cases are in {args.log} already", flush=True)

@@ -32,6 +32,7 @@ from tockbmc.explicit.engine import check_explicit
 from tockbmc.model import ast
 from tockbmc.model.config import configure
 from tockbmc.model.ranges import Range, Ranges
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Proof, Result
 from tockbmc.parallel import InProcesses, Job
 
@@ -64,29 +65,39 @@ ENUM_CONDITIONS = ["v == V1(x)", "v != V0", "v == V2(false, 0) \\/ v == V1(1)", 
 ENUM_TRIGGERS = ["g?v", "g.V0"]
 # With `durings`: the composite state's during action, which runs beside its children (§4.1).
 DURING_ACTIONS = ["wait(1) ; x = 1", "b!x", "x = -x ; c", "wait(1) ; b!(x + 1)", "op(x) ; x = 0", "a?x", "wait(2)"]
+# With `unset`: what the model leaves for the reading to fill in (docs/semantics.md §6.6), variables
+# without an initial value and functions without a body, with arithmetic that leaves core_int.
+UNSET_DECLARATIONS = ["  var u : int", "  var q : boolean"]
+UNSET_FUNCTIONS = "function fz(n : int) : int { }\nfunction fb(n : int) : boolean { }\n"
+UNSET_STATEMENTS = ["u = u + 1", "x = fz(x)", "u = x * 2", "q = not q", "u = -u", "b!u", "u = u - x",
+                    "q = fb(u)"]
+UNSET_CONDITIONS = ["u > 1", "q", "fb(x)", "fz(u) == 0", "u == x + 1", "u < -1"]
 DATA_RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))},
                      {"M::d": Range(Fraction(0), Fraction(2))})
 
 
 def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
                  name: str = "M", data: bool = False, enums: bool = False,
-                 durings: bool = False) -> tuple[str, list[str]]:
+                 durings: bool = False, unset: bool = False) -> tuple[str, list[str]]:
     """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose.
     With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …); with
     `enums`, a value of an enumeration whose literals take parameters (`ENUM_STATEMENTS`, …); with
-    `durings`, its composite state (always there) has a during action (`DURING_ACTIONS`)."""
+    `durings`, its composite state (always there) has a during action (`DURING_ACTIONS`); with
+    `unset`, variables without an initial value and functions without a body (`UNSET_STATEMENTS`, …)."""
     statements = STATEMENTS + DATA_STATEMENTS if data else STATEMENTS
     conditions = CONDITIONS + DATA_CONDITIONS if data else CONDITIONS
     triggers = ["", "a?x", "c", "a.1", "c <{1}", *(DATA_TRIGGERS if data else [])]
     if enums:
         statements, conditions, triggers = (statements + ENUM_STATEMENTS, conditions + ENUM_CONDITIONS,
                                             triggers + ENUM_TRIGGERS)
+    if unset:
+        statements, conditions = statements + UNSET_STATEMENTS, conditions + UNSET_CONDITIONS
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
     composite = number(0, 1) == 1 or durings
     lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
              "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []),
-             *(ENUM_DECLARATIONS if enums else []), "  initial i"]
+             *(ENUM_DECLARATIONS if enums else []), *(UNSET_DECLARATIONS if unset else []), "  initial i"]
     for s in states:
         entry = f" entry {pick(statements)}" if number(0, 1) else ""
         if s == "S0" and composite:
@@ -123,7 +134,8 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
     if "J" in targets and not any("from J " in line for line in lines):
         lines.append(f"  transition tj {{ from J to {states[0]} }}")
     lines.append("}")
-    return (ENUM_TYPE if enums else "") + "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states
+    return ((ENUM_TYPE if enums else "") + (UNSET_FUNCTIONS if unset else "") + "interface Ops { op(n : int) }\n"
+            + "\n".join(lines) + "\n", states)
 
 
 def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
@@ -441,7 +453,7 @@ def _definite_explicit(r: Result) -> str | None:
 
 
 def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8, timeout: float = 20,
-            ranges: Ranges = RANGES) -> list[Outcome]:
+            ranges: Ranges = RANGES, reading: Reading = Reading.DEFAULT) -> list[Outcome]:
     """Check a model with both engines; one `Outcome` per assertion.
 
     Both engines' counterexamples must have as many visible steps.  The explicit engine's have the
@@ -450,14 +462,17 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
     has fewer, with thrice the bound (BMC's internal steps count towards its bound) before it counts
     as a disagreement.  Two exceptions, where the engines differ by design: deadlocks of different
     kinds (each engine tries the kinds in its own order) are not compared by length, and a time-only
-    deadlock may be shown by BMC after a few more tocks (`_same_length`).
+    deadlock may be shown by BMC after a few more tocks (`_same_length`).  Both engines read the
+    model in `reading` (docs/semantics.md §6.6).
     """
     with tempfile.TemporaryDirectory() as d:
         (Path(d) / "m.rct").write_text(rct)
         (Path(d) / "m.assertions").write_text(assertions)
         project = tockbmc.load(d)
-        symbolic = {r.assertion: r for r in _bmc(project, bound, ranges, timeout)}
-        concrete = {r.assertion: r for r in check_explicit(project, None, explicit_bound, ranges, {}, timeout, 200_000)}
+        symbolic = {r.assertion: r for r in _bmc(project, bound, ranges, timeout, reading=reading)}
+        config = configure(project, ranges, reading=reading)
+        concrete = {r.assertion: r for r in check_explicit(config.project, None, explicit_bound, ranges, {}, timeout,
+                                                           200_000, config=config)}
         out = []
         for name, b in symbolic.items():
             e = concrete[name]
@@ -468,13 +483,13 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
             same: bool | None = b.verdict == e.verdict
             note = ""
             if same and db.startswith("found") and de.startswith("found"):
-                same, note = _same_length(project, name, b, e, bound, timeout, ranges)
+                same, note = _same_length(project, name, b, e, bound, timeout, ranges, reading)
             out.append(Outcome(name, b.verdict, e.verdict, same, note))
     return out
 
 
 def _same_length(project: object, name: str, b: Result, e: Result,
-                 bound: int, timeout: float, ranges: Ranges) -> tuple[bool | None, str]:
+                 bound: int, timeout: float, ranges: Ranges, reading: Reading) -> tuple[bool | None, str]:
     """Whether two counterexamples of one verdict have as many visible steps (None: not comparable)."""
     if "is not deterministic" in (b.reason or "") and "is not deterministic" in (e.reason or ""):
         # BMC's pair of runs has the fewest steps of the two together, not the fewest visible events.
@@ -499,7 +514,7 @@ def _same_length(project: object, name: str, b: Result, e: Result,
     for k in (bound, 3 * bound):
         if vb <= ve:
             break
-        b = _bmc(project, k, ranges, timeout, "events", name)[0]  # type: ignore[arg-type]
+        b = _bmc(project, k, ranges, timeout, "events", name, reading)[0]  # type: ignore[arg-type]
         if b.verdict != e.verdict or not b.trace or _deadlock_kind(b) != kinds[1] or "shortest" in b.extra:
             return None, f"BMC asked for the fewest visible steps within {k} steps: {b.verdict}, {b.reason}"
         vb, note = _visible(b), f"as many visible steps ({ve}) when BMC looks for the fewest"
@@ -509,10 +524,10 @@ def _same_length(project: object, name: str, b: Result, e: Result,
 
 
 def _bmc(project: ast.Project, bound: int, ranges: Ranges, timeout: float, shortest: str = "steps",
-         name: str | None = None) -> list[Result]:
+         name: str | None = None, reading: Reading = Reading.DEFAULT) -> list[Result]:
     """BMC's results, one assertion after another in a worker process, which is ended where Z3 does
     not stop at the timeout (`parallel.Job.hard_limit`: the assertion is then `unknown`)."""
-    config = configure(project, ranges)
+    config = configure(project, ranges, reading=reading)
     job = Job(config, bound, timeout, shortest)
     work = [(job, i) for i, a in enumerate(config.project.assertions) if name is None or a.name == name]
     decided = dict(InProcesses(work, 1))
@@ -534,7 +549,8 @@ def _visible(r: Result) -> int:
 
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
                 untimed: bool = False, tick_tock: bool = False, operations: bool = False,
-                bidirectional: bool = False, enums: bool = False, durings: bool = False) -> tuple[str, str]:
+                bidirectional: bool = False, enums: bool = False, durings: bool = False,
+                unset: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
     with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
     with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
@@ -545,11 +561,12 @@ def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data:
     (`network_text`, `bidirectional_assertions`).  Their draws come after all the others, so that
     without them a seed's case is as before.  With `enums`, the case is a machine (never a
     controller) with a value of an enumeration whose literals take parameters (`ENUM_TYPE`); with
-    `durings`, a machine whose composite state has a during action (`DURING_ACTIONS`)."""
+    `durings`, a machine whose composite state has a during action (`DURING_ACTIONS`); with `unset`, a
+    machine with variables without an initial value and functions without a body (`UNSET_STATEMENTS`)."""
     rng = random.Random(seed)
-    network = not data and not enums and not durings and rng.random() < controllers
+    network = not data and not enums and not durings and not unset and rng.random() < controllers
     make = data_machine_text if data else network_text if network else machine_text
-    extra = {k: True for k, on in (("enums", enums), ("durings", durings)) if on}
+    extra = {k: True for k, on in (("enums", enums), ("durings", durings), ("unset", unset)) if on}
     rct, states = (network_text(rng.choice, rng.randint, bidirectional) if network and bidirectional
                    else make(rng.choice, rng.randint, **extra) if extra  # type: ignore[call-arg]
                    else make(rng.choice, rng.randint))

@@ -29,6 +29,7 @@ from tockbmc.check import DEFAULT_BOUND
 from tockbmc.model.config import ROBOTOOL_RANGES, configure
 from tockbmc.model.core import core_assertions
 from tockbmc.model.loader import SUFFIXES
+from tockbmc.model.readings import Reading
 from tockbmc.model.result import Verdict
 from tockbmc.parallel import InProcess, Job
 
@@ -113,6 +114,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per assertion")
     parser.add_argument("--budget", type=float, default=300.0, help="seconds per project")
     parser.add_argument("--corpus", type=Path, default=CORPUS)
+    parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.ROBOTOOL.value,
+                        help="the reading the projects are checked in (docs/semantics.md §6.6)")
     parser.add_argument("--only", default="", help="check only the project lines containing this text")
     parser.add_argument("--load-only", action="store_true", help="load the projects, check nothing")
     parser.add_argument("--top", type=int, default=12, help="how many reasons to list")
@@ -145,7 +148,8 @@ def main() -> None:
         if args.core and not project.assertions:
             project = dataclasses.replace(project, assertions=core_assertions(project))
         if not args.load_only and project.assertions:
-            job = Job(configure(project, default_ranges=ROBOTOOL_RANGES), args.bound, args.timeout)
+            job = Job(configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading(args.reading)), args.bound,
+                      args.timeout)
             began = time.perf_counter()
             for i in range(len(project.assertions)):
                 left = args.budget - (time.perf_counter() - began)
