@@ -292,3 +292,64 @@ def test_a_specifications_plus_is_robotools_bounded_arithmetic_with_robotool(tmp
         config = configure(project, reading=reading)
         found = {r.assertion: r.verdict.value for r in check(config.project, bound=12, config=config, timeout=60)}
         assert found == {"A": "holds", "B": b}, (reading, found)
+
+
+REMAINDER = """\
+stm M {
+  var y : int = -1
+  var q : int
+  event e : int
+  initial i
+  state s { entry q = y % 2 ; e!q }
+  transition t0 { from i to s }
+}
+"""
+REMAINDER_ASSERTIONS = """\
+timed csp SpecMod csp-begin
+Timed(OneStep) {
+  SpecMod = M::e.out!Modulus(-1, 2, core_int) -> STOP
+}
+csp-end
+timed csp SpecPct csp-begin
+Timed(OneStep) {
+  SpecPct = M::e.out!((-1) % 2) -> STOP
+}
+csp-end
+timed assertion A1: M refines SpecMod in the traces model.
+timed assertion A2: M refines SpecPct in the traces model.
+"""
+
+
+def test_robotools_remainder_has_the_dividends_sign_in_the_model_and_in_csp(tmp_path: Path) -> None:
+    """With `--robotool`, `-1 % 2` is -1 in the model (RoboTool's `Modulus`, FDR's `%`) and in the
+    specification's `%` and `Modulus` alike: each refinement holds, in both engines."""
+    bmc, explicit = both(tmp_path, {"m.rct": REMAINDER, "m.assertions": REMAINDER_ASSERTIONS}, Reading.ROBOTOOL,
+                         ranges=Ranges())
+    assert verdicts(bmc) == verdicts(explicit) == {"A1": "holds", "A2": "holds"}, [r.reason for r in bmc.values()]
+
+
+def test_a_function_the_instantiation_defines_computes_exactly_with_robotool(tmp_path: Path) -> None:
+    """`f(x) = x + 1` written in the project's instantiation is CSP the user wrote: RoboTool's
+    bounded arithmetic is not put into it (f(2) is 3 although 3 is outside core_int=-2..2)."""
+    rct = ("function f(x : int) : int { }\nstm M {\n  var a : int = 2\n  initial i\n  state s {}\n  state b {}\n"
+           "  transition t0 { from i to s }\n  transition t1 { from s to b condition f(a) == 3 }\n}\n")
+    assertions = "csp Instantiations csp-begin\nf(x) = x + 1\ncsp-end\nassertion R: b is reachable in M.\n"
+    bmc, explicit = both(tmp_path, {"m.rct": rct, "m.assertions": assertions}, Reading.ROBOTOOL, ranges=Ranges())
+    assert bmc["R"].verdict == explicit["R"].verdict == "holds", (bmc["R"].reason, explicit["R"].reason)
+    assert "f" not in bmc["R"].defaults
+
+
+def test_a_generic_functions_copy_for_a_call_gets_the_placeholder(tmp_path: Path) -> None:
+    """`gsize(s : Set(?X)) : nat` called on a `Set(int)` is checked as its copy `gsize[?X=int]`,
+    which gets RoboTool's placeholder 0 (RoboTool's `card(A) = 0`); one whose result type is generic
+    stays open, listed with why."""
+    rct = ("import set_toolkit::*\nfunction gsize(s : Set(?X)) : nat { }\nfunction gid(x : ?X) : ?X { }\n"
+           "stm M {\n  var a : int = 1\n  initial i\n  state s {}\n  state b {}\n  state c {}\n"
+           "  transition t0 { from i to s }\n  transition t1 { from s to b condition gsize({a}) == 5 }\n"
+           "  transition t2 { from s to c condition gid(a) == 7 }\n}\n")
+    write_files(tmp_path, {"m.rct": rct, "m.assertions": "assertion NB: b is not reachable in M.\n"})
+    config = configure(tockbmc.load(tmp_path))
+    [r] = check(config.project, bound=10, config=config, timeout=60)
+    assert r.verdict == "holds", r.reason
+    assert r.defaults["gsize[?X=int]"] == "0" and r.defaults["gid[?X=int]"] == ""
+    assert "generic result type" in r.sources["defaults"]["gid[?X=int]"]

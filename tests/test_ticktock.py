@@ -164,11 +164,12 @@ def test_a_specification_with_many_observations_keeps_to_the_timeout(tmp_path: P
     """Differential seed 5000 (data, quantifiers): TTFew on the left has about a hundred
     observations, each a system with a follower that takes a while to build.  With a 1 s timeout
     the check stopped only after 50 s (each search was handed the 1 ms left, after building its
-    system); now it stops building once the time is up and says so."""
+    system); now it stops building once the time is up and says so (or, on a faster run, its
+    search is the one the timeout stops: either is the timeout kept)."""
     cases = load_differential()
     rct, assertions = cases.random_case(5000, 0.25, True, True, True, True)
     (tmp_path / "m.rct").write_text(rct)
     (tmp_path / "m.assertions").write_text(assertions)
     r, = check(tockbmc.load(tmp_path), ["TT3"], bound=16, ranges=cases.DATA_RANGES, timeout=1)
-    assert r.verdict == "unknown" and "(out of time)" in (r.reason or ""), r
+    assert r.verdict == "unknown" and ("(out of time)" in (r.reason or "") or "timed out" in (r.reason or "")), r
     assert r.seconds < 10, r.seconds  # a tenfold margin for a loaded machine; it was fifty

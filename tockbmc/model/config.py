@@ -656,6 +656,7 @@ class Configuration:
                 self._ranges[name] = _RangeEntry(r, ROBOTOOL_DEFAULT)
         self._instantiated: dict[str, tuple[ast.Expr, Source]] = {}
         self._unread: dict[str, ast.Pos] = {}  # functions whose instantiation's body is not understood, by qname
+        self._written: set[str] = set()  # functions the instantiation defines, by qname
         self.project = self._read_instantiation(project) if instantiation else project
         self.filled: tuple[Filled, ...] = ()  # what the reading filled in (none in the open one)
         # by the element's id, the element kept beside what it reaches so that the id is never another's
@@ -663,7 +664,7 @@ class Configuration:
         if reading != Reading.OPEN:
             self.project, self.filled = fill_unset(self.project, self._unread)
         if reading == Reading.ROBOTOOL:
-            self.project = bounded_arithmetic(self.project, self._core_ranges(ranges))
+            self.project = bounded_arithmetic(self.project, self._core_ranges(ranges), frozenset(self._written))
         self.names = Names(self.project)  # of the project the checks read: instance chains are its elements
         self._flags: dict[str, _ConstEntry] = {}
         for name, r in _range_items(ranges):
@@ -988,6 +989,7 @@ class Configuration:
                                           "is not used")
                     else:
                         defined[id(f)] = body.define(f, ds)
+                        self._written.add(f.qname)
                 elif name.startswith("const_"):
                     self._warn(d.pos, f"no constant of the model is named '{name}' by RoboTool, so it is not "
                                       f"used{suggestion(name, list(slots_by_name))}")

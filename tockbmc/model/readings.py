@@ -54,6 +54,7 @@ ROBOTOOL_NOT_REPRODUCED = (
     "(calc_type_min/calc_type_max): the default ranges are used as they are",
     "real literals with a fraction and division on reals: exact here, where FDR's reals are integers",
     "core_clock_type = {0..10}: clocks are not bounded",
+    "the functions the project's instantiation defines compute exactly, its Plus(a, b, T) and the like included",
     "an unprefixed assertion is checked in the timed semantics only, where RoboTool checks it in both",
     "RoboTool's memory model for shared variables (a copy per machine, propagated by update events)",
 )
@@ -176,10 +177,16 @@ def fill_unset(project: ast.Project, unread: dict[str, ast.Pos] | None = None
         filled.append(("variable", f"{v.owner}::{v.name}", describe_value(value),
                        f"{ROBOTOOL_DEFAULT} ({_at(v.pos)})", v.pos, id(v)))
     functions: dict[int, ast.Function] = {}
-    for f in project.functions:
+    originals = {f.qname: f for f in project.functions}
+    for f in _functions(project):
         if f.definition is not None or ast.type_vars(f.result):
             continue
         old[id(f)] = f
+        original = originals.get(f.qname.split("[", 1)[0])  # a generic function's copy for a call: `g[?X=int]`
+        if original is not None and ast.type_vars(original.result):
+            filled.append(("function", f.qname, "", "kept open: RoboTool's placeholder for a generic result type "
+                                                    "is not evidenced", f.pos, id(f)))
+            continue
         if f.qname in (unread or {}):
             filled.append(("function", f.qname, "", "kept open: the instantiation's definition at "
                                                     f"{_at((unread or {})[f.qname])} is not understood", f.pos, id(f)))
@@ -210,6 +217,13 @@ def fill_unset(project: ast.Project, unread: dict[str, ast.Pos] | None = None
     return out, tuple(Filled(k, n, val, s, p, memo.get(key, old[key])) for k, n, val, s, p, key in filled)
 
 
+def _functions(project: ast.Project) -> list[ast.Function]:
+    """Every function the project holds: its declarations, and the copies of generic functions
+    made for their calls (`g[?X=int]`), in the order of their names."""
+    found = {id(f): f for f in ast.parts(project) if isinstance(f, ast.Function)}
+    return sorted(found.values(), key=lambda f: f.qname)
+
+
 def reached(filled: tuple[Filled, ...], *roots: object) -> tuple[Filled, ...]:
     """The defaults that the model elements `roots` reach (hold or call), in `filled`'s order."""
     wanted = {id(f.target) for f in filled if f.target is not None}
@@ -220,9 +234,12 @@ def reached(filled: tuple[Filled, ...], *roots: object) -> tuple[Filled, ...]:
 _ARITHMETIC = ("+", "-", "*", "/", "%")
 
 
-def bounded_arithmetic(project: ast.Project, ranges: dict[str, tuple[Fraction, Fraction]]) -> ast.Project:
+def bounded_arithmetic(project: ast.Project, ranges: dict[str, tuple[Fraction, Fraction]],
+                       written: frozenset[str] = frozenset()) -> ast.Project:
     """The project with RoboTool's bounded arithmetic written into the model's expressions (its
-    machines, operations, controllers and functions; not the CSP blocks, which are CSP already):
+    machines, operations, controllers and functions; not the CSP blocks, which are CSP already, nor
+    the functions the project's instantiation defines, `written` by qualified name, whose CSP
+    arithmetic is exact):
     `a + b` of a type whose range `ranges` gives (`core_int`, `core_nat`, `core_real`) is
 
         if lo <= a + b <= hi then a + b else a        (RoboTool's `Plus(a, b, T)`)
@@ -240,6 +257,8 @@ def bounded_arithmetic(project: ast.Project, ranges: dict[str, tuple[Fraction, F
         seen.add(id(item))
         if isinstance(item, (tuple, list)):
             stack.extend(item)
+        elif isinstance(item, ast.Function) and item.qname in written:
+            continue
         elif dataclasses.is_dataclass(item) and not isinstance(item, type):
             if _bounded(item, ranges) is not None:
                 found.append(item)  # type: ignore[arg-type]

@@ -369,7 +369,7 @@ class Evaluator:
             if op in "/%" and y == 0:
                 raise self.error(t, "division by zero")
             if op in "/%":
-                return _div(x, y) if op == "/" else x % y
+                return _div(x, y) if op == "/" else _mod(x, y)
             return {"+": x + y, "-": x - y, "*": x * y}[op]
         if k == "negate":
             return -self.number(c[0], env)
@@ -514,7 +514,7 @@ class Evaluator:
             if name in ("Div", "Modulus") and y == 0:
                 raise self.error(t, "division by zero")
             exact = _div(x, y) if name == "Div" else {"Plus": x + y, "Minus": x - y, "Mult": x * y,
-                                                      "Modulus": x % y if y else 0}[name]
+                                                      "Modulus": _mod(x, y) if y else 0}[name]
         if not self.arithmetic:
             return exact
         kept = self._bounds(type_t, env)
@@ -655,6 +655,11 @@ def _fold(kind: str, procs: list[Proc], timed: bool) -> Proc:
 def _div(a: int, b: int) -> int:
     q = abs(a) // abs(b)  # CSPM's `/` truncates towards zero
     return q if (a >= 0) == (b >= 0) else -q
+
+
+def _mod(a: int, b: int) -> int:
+    """CSPM's `%`: the remainder of `_div`, of `a`'s sign (a == b * (a / b) + a % b)."""
+    return a - b * _div(a, b)
 
 
 # RoboTool's channels for a variable's reads and writes (`M::set_reqx`), which tockbmc does not have.
