@@ -137,3 +137,25 @@ def test_initial_choices_feed_replay_with_unbounded_data() -> None:
     [r] = json.loads(result.output)["results"]
     assert r["verdict"] == "violated" and r["replayed"] == "yes"
     assert initial_choices  # the decoder's view of the starting values is what replay is given
+
+
+def test_a_specifications_record_input_is_named_as_the_models_event(tmp_path) -> None:
+    """`Spec refines M` with `Spec = M::input.in?x -> STOP` over a record type: the explicit engine
+    named the specification's event `M::input.in.Record({'q': 0, 'p': 0})`, which no event of M
+    matched (`M::input.in.(q=0, p=0)`), and said `violated` where BMC says `holds` (RoboTool's test15
+    A0 the same)."""
+    from conftest import write_files
+
+    from tockbmc.explicit.engine import check_explicit
+    from tockbmc.model.ranges import Range, Ranges
+    write_files(tmp_path, {
+        "m.rct": "datatype DT { q : nat  p : nat }\nstm M {\n  event input : DT\n  var i : DT\n  initial I\n"
+                 "  state A { }\n  state B { }\n  transition t0 { from I to A }\n"
+                 "  transition t1 { from A to B trigger input?i }\n}\n",
+        "m.assertions": "timed csp Spec csp-begin\nTimed(OneStep) {\nSpec = M::input.in?x -> STOP\n}\ncsp-end\n"
+                        "timed assertion A1: Spec refines M\n"})
+    ranges = Ranges({"core_nat": Range(Fraction(0), Fraction(1))})
+    project = load(tmp_path)
+    [bmc] = check(project, bound=12, ranges=ranges, timeout=60)
+    [explicit] = check_explicit(project, None, 8, ranges, {}, 60, 100_000)
+    assert bmc.verdict == explicit.verdict == "holds", (bmc.reason, explicit.reason)
