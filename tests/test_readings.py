@@ -353,3 +353,44 @@ def test_a_generic_functions_copy_for_a_call_gets_the_placeholder(tmp_path: Path
     assert r.verdict == "holds", r.reason
     assert r.defaults["gsize[?X=int]"] == "0" and r.defaults["gid[?X=int]"] == ""
     assert "generic result type" in r.sources["defaults"]["gid[?X=int]"]
+
+
+OPERATION_REQUIRES = """\
+interface RV { var x : int }
+interface IE { event out : int }
+interface Ops { op() }
+operation op() {
+  requires RV
+  uses IE
+  var c : int
+  initial i
+  final f
+  transition t0 { from i to f action out!x ; out!c ; x = x + 1 }
+}
+stm M {
+  uses IE
+  requires Ops
+  var x : int = 1
+  initial I
+  state A {}
+  state B {}
+  transition t0 { from I to A action op() }
+  transition t1 { from A to B action op() }
+}
+controller C {
+  uses IE
+  sref m = M
+  opref o = op
+  connection m on out to C on out
+}
+"""
+
+
+def test_a_required_variable_the_caller_declares_is_not_listed_as_a_default(tmp_path: Path) -> None:
+    """op reads the x its caller M declares (= 1), so RV's x is no default the verdict rests on;
+    op's own c, reset to 0 at each call, is. C outputs 1, 0, 2, 0 in both engines."""
+    assertions = ("timed csp Spec csp-begin\nTimed(OneStep) {\nSpec = C::out.out!1 -> C::out.out!0 -> C::out.out!2 "
+                  "-> C::out.out!0 -> STOP\n}\ncsp-end\ntimed assertion A: C refines Spec in the traces model.\n")
+    bmc, explicit = both(tmp_path, {"m.rct": OPERATION_REQUIRES, "m.assertions": assertions}, Reading.DEFAULT)
+    assert bmc["A"].verdict == explicit["A"].verdict == "holds", (bmc["A"].reason, explicit["A"].reason)
+    assert bmc["A"].defaults == {"op::c": "0"}

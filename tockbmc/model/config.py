@@ -799,6 +799,12 @@ class Configuration:
                 filled = tuple(f for f in filled if not (isinstance(f.target, ast.Variable)
                                                          and f.target.kind == "interface"
                                                          and not ast.in_interfaces(f.target, own)))
+            # A required variable that a variable of the element declares (a controller's, the
+            # platform's, the calling machine's for an operation) starts at that one's value.
+            declared = {v.name for v in ast.parts(element) if isinstance(v, ast.Variable) and v.kind == "local"
+                        and not v.constant}
+            filled = tuple(f for f in filled if not (isinstance(f.target, ast.Variable) and f.target.kind == "interface"
+                                                     and f.target.name in declared))
             self._reached[id(element)] = (element, filled)
         return self._reached[id(element)][1]
 
