@@ -394,3 +394,21 @@ def test_a_required_variable_the_caller_declares_is_not_listed_as_a_default(tmp_
     bmc, explicit = both(tmp_path, {"m.rct": OPERATION_REQUIRES, "m.assertions": assertions}, Reading.DEFAULT)
     assert bmc["A"].verdict == explicit["A"].verdict == "holds", (bmc["A"].reason, explicit["A"].reason)
     assert bmc["A"].defaults == {"op::c": "0"}
+
+
+def test_a_range_on_an_initial_value_the_reading_fills_in_is_warned_of(tmp_path: Path) -> None:
+    """`--range M::x=2..2` bounds x's initial value only where x starts anywhere (`--open`); by default
+    x starts at 0 and the range bounds nothing: a warning with the declaration's line says so."""
+    write_files(tmp_path, {"m.rct": UNSET, "m.assertions": "assertion Three: three is reachable in M.\n"})
+    project = tockbmc.load(tmp_path)
+    config = configure(project, {"M::x": Range(Fraction(2), Fraction(2))})
+    [w] = config.warnings
+    assert "--range M::x has no effect in the default reading" in w.message and w.pos.line == 3
+    assert not configure(project, {"M::x": Range(Fraction(2), Fraction(2))}, reading=Reading.OPEN).warnings
+
+
+def test_the_html_report_lists_what_robotool_does_not_reproduce(tmp_path: Path) -> None:
+    write_files(tmp_path, {"m.rct": UNSET, "m.assertions": "assertion Three: three is reachable in M.\n"})
+    config = configure(tockbmc.load(tmp_path), reading=Reading.ROBOTOOL)
+    page = render_report(check(config.project, config=config, bound=10), title="m", version="0")
+    assert "not reproduced: " in page and "core_clock_type" in page

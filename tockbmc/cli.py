@@ -216,7 +216,9 @@ def default_jobs() -> int:
                    "are parameters). By default RoboTool's instantiation fills them in.")
 @click.option("--robotool", "robotool_reading", is_flag=True,
               help="FDR's finite check: RoboTool's instantiation with its default ranges (core_int=-2..2, "
-                   "core_nat=0..2, core_real=-2..2) for every type nothing else bounds.")
+                   "core_nat=0..2, core_real=-2..2) for every type nothing else bounds, reals as integers and "
+                   "RoboTool's bounded arithmetic (a result outside its type's range leaves the first operand). "
+                   "Excludes --open.")
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
               help="Seconds per assertion; past it the verdict is 'unknown'.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",

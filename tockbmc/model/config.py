@@ -672,6 +672,10 @@ class Configuration:
             if r is not None:
                 check_range(name, t, r)
             self._ranges[key] = _RangeEntry(r, FLAG_RANGE)
+            for f in self.filled:  # a range on an initial value the reading fills in bounds nothing
+                if r is not None and f.kind == "variable" and (f.name == key or f.name.endswith(f"::{key}")):
+                    self._warn(f.pos, f"--range {name} has no effect in the {reading} reading: {key} starts at "
+                                      f"{f.value}, RoboTool's default (with --open it starts anywhere in the range)")
         # one instance's constant (`ctrl0::stm_ref0::CC`), by the name given: (the instance's chain,
         # its declaration's key, value)
         self._instance_flags: dict[str, tuple[Chain, str, _ConstEntry]] = {}

@@ -108,6 +108,7 @@ def render_report(results: Sequence[Result], *, title: str, version: str) -> str
     return env.get_template("report.html").render(
         title=title, version=version, bound=bound, ranges=ranges, engine=engine, counts=counts,
         reading=reading, reading_summary=Reading(reading).summary if reading else "",
+        not_reproduced=Reading(reading).not_reproduced if reading else (),
         sections=sections(results), explicit=any("states" in r.extra for r in results))
 
 

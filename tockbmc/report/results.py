@@ -52,7 +52,8 @@ def schema() -> dict[str, Any]:
 
 def _scope(r: Result) -> str:
     ranges = ", ".join(f"{k}={v}" for k, v in r.ranges.items()) or "none (unbounded data)"
-    return f"bound {r.bound} steps; ranges: {ranges}; reading: {r.reading}"
+    missing = f" (not reproduced: {'; '.join(r.not_reproduced)})" if r.not_reproduced else ""
+    return f"bound {r.bound} steps; ranges: {ranges}; reading: {r.reading}{missing}"
 
 
 def configuration(r: Result) -> str:
@@ -67,8 +68,7 @@ def configuration(r: Result) -> str:
     if r.defaults:
         line += "; defaults: " + ", ".join(f"{k}={v} [{defaults.get(k, '')}]" if v else f"{k} [{defaults.get(k, '')}]"
                                             for k, v in r.defaults.items())
-    missing = f" (not reproduced: {'; '.join(r.not_reproduced)})" if r.not_reproduced else ""
-    return f"reading: {r.reading}{missing}; {line}"
+    return f"reading: {r.reading}; {line}"
 
 
 class ResultTable:
