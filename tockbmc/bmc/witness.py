@@ -260,17 +260,18 @@ def _state(u: Unroller, c: int, loc: int) -> str:
 
 
 def _changed(u: Unroller, model: z3.ModelRef, i: int, m: Move) -> dict[str, str]:
-    """Variables that step i wrote or changed (at step 0 also the declared initial values)."""
+    """Variables that step i wrote or changed (at step 0 every variable's start: its declared initial
+    value, or the value the run chose for one that starts anywhere)."""
     system = u.system
     out = {}
     before, after = u.frame(i), u.frame(i + 1)
     written = set(system.effect(m).post)
-    for base, (t, initial, _c, _key) in system.initial.items():
+    for base, (t, _initial, _c, _key) in system.initial.items():
         for path, _term in leaves(system.value(base, t)):
             name = base + path
             new = model.eval(after[name], model_completion=True)
             old = model.eval(before[name], model_completion=True)
-            if (name in written or (i == 0 and initial is not None)
+            if (name in written or i == 0
                     or not z3.is_true(model.eval(new == old, model_completion=True))):
                 out[name.replace("#", "")] = scalar_text(after[name], model, leaf_type(t, path))  # `M.loc#`: names.variable
     return out
