@@ -250,7 +250,7 @@ def test_a_witness_resting_on_any_value_the_model_leaves_open_gives_no_verdict(t
     lambda outside its condition, Q reads an item past a sequence's end and divides by zero: any
     value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value.
     E's initial value reads past the sequence's end inside a quantifier (the scan missed it, and the
-    replay took the start from the run: `holds`, session 16). Functions and variables are read
+    replay had taken the start from the run: a wrong `holds`). Functions and variables are read
     open; constants take RoboTool's defaults."""
     write_files(tmp_path, {"m.rct": OPEN, "m.assertions": "".join(
         f"assertion {n}: {st} is reachable in {m}.\n" for n, st, m in

@@ -112,15 +112,13 @@ class _Check:
         return Result(assertion=self.a.name, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=reason,
                       trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {}, constants=self.constants,
-                      sources=self.sources, reading=self.config.reading, defaults=self.defaults,
-                      not_reproduced=self.config.reading.not_reproduced)
+                      sources=self.sources, reading=self.config.reading, defaults=self.defaults)
 
     def unsupported(self, exc: Unsupported) -> Result:
         return Result(assertion=self.a.name, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=exc.reason,
                       proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources,
-                      reading=self.config.reading, defaults=self.defaults,
-                      not_reproduced=self.config.reading.not_reproduced)
+                      reading=self.config.reading, defaults=self.defaults)
 
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)

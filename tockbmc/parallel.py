@@ -257,7 +257,7 @@ def overran(job: Job, index: int, seconds: float, in_process: bool = False) -> R
     what = "tockbmc gave it up" if in_process else "the worker process deciding it was ended"
     return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
                   ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.engine,
-                  pos=str(a.pos), reading=job.config.reading, not_reproduced=job.config.reading.not_reproduced,
+                  pos=str(a.pos), reading=job.config.reading,
                   reason=f"the check did not stop at its timeout ({job.timeout:g} s): {what} after {seconds:.0f} s")
 
 

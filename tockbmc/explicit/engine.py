@@ -487,8 +487,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
                       bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=described,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
                       engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources,
-                      reading=config.reading, defaults=defaults,
-                      not_reproduced=config.reading.not_reproduced)
+                      reading=config.reading, defaults=defaults)
 
     try:
         q = query(project, a)
@@ -737,8 +736,7 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
                       seconds=time.perf_counter() - start, reason=reason, trace=trace,
                       proof=Proof.TRACE if trace else Proof.EXHAUSTIVE, engine="explicit", pos=str(a.pos),
                       extra=more or {}, constants=setup.described_constants, sources=setup.sources,
-                      reading=config.reading, defaults=setup.defaults,
-                      not_reproduced=config.reading.not_reproduced)
+                      reading=config.reading, defaults=setup.defaults)
 
     try:
         interp = Interpreter(q.element, ranges_dict(setup.ranges), python_settings(setup.constants),

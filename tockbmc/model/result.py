@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any
 
+from tockbmc.model.readings import Reading
+
 
 class Verdict(StrEnum):
     """The outcome of one assertion (a `str`, so JSON and text print its value)."""
@@ -103,10 +105,14 @@ class Result:
     # what the reading filled in that the verdict rests on: a variable's initial value, a function's
     # placeholder ("" where the function stays open under its contract), by qualified name
     defaults: dict[str, str] = field(default_factory=dict)
-    not_reproduced: tuple[str, ...] = ()  # what of the reading tockbmc does not reproduce (`--robotool`)
     # For a nondeterminism: the second run, with the visible events of `trace` but its last, ending
     # stable where that last event is refused.
     other_trace: tuple[TraceStep, ...] = ()
+
+    @property
+    def not_reproduced(self) -> tuple[str, ...]:
+        """What of the result's reading tockbmc does not reproduce (`--robotool`'s list; none otherwise)."""
+        return Reading(self.reading).not_reproduced
 
     def to_json(self) -> dict[str, Any]:
         return {
