@@ -45,13 +45,13 @@ import tockbmc  # noqa: E402
 from tockbmc.model.readings import Reading  # noqa: E402
 
 
-def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool, bool, bool, str]
+def run(job: tuple[int, float, float, bool, bool, bool, bool, bool, bool, bool, bool, bool, str, bool]
         ) -> tuple[int, list | str | None]:
     (seed, timeout, controllers, specs, data, untimed, tick_tock, operations, bidirectional, enums, durings,
-     unset, reading) = job
+     unset, reading, shared) = job
     # past the timeout an outcome is unknown
     rct, assertions = random_case(seed, controllers, specs, data, untimed, tick_tock, operations, bidirectional,
-                                  enums, durings, unset)
+                                  enums, durings, unset, shared)
     try:
         return seed, compare(rct, assertions, timeout=timeout, ranges=DATA_RANGES if data else RANGES,
                              reading=Reading(reading))
@@ -87,6 +87,9 @@ def main() -> None:
     parser.add_argument("--unset", action="store_true",
                         help="machines with variables without an initial value, functions without a body and "
                              "arithmetic that leaves core_int, for the reading to fill in")
+    parser.add_argument("--shared", action="store_true",
+                        help="controllers whose machines share a variable (RoboTool's memory model: a copy per "
+                             "machine), or a machine that requires one")
     parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.DEFAULT.value,
                         help="the reading both engines check in (docs/semantics.md §6.6)")
     parser.add_argument("--log", type=Path, default=None,
@@ -106,7 +109,7 @@ def main() -> None:
     counts: collections.Counter[str] = collections.Counter()
     start = time.perf_counter()
     seeds = [(seed, args.timeout, args.controllers, args.specs, args.data, args.untimed, args.tick_tock,
-              args.operations, args.bidirectional, args.enums, args.durings, args.unset, args.reading)
+              args.operations, args.bidirectional, args.enums, args.durings, args.unset, args.reading, args.shared)
              for seed in range(args.seed, args.seed + args.cases)
              if seed not in logged]
     if logged:

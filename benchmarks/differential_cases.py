@@ -72,13 +72,20 @@ UNSET_FUNCTIONS = "function fz(n : int) : int { }\nfunction fb(n : int) : boolea
 UNSET_STATEMENTS = ["u = u + 1", "x = fz(x)", "u = x * 2", "q = not q", "u = -u", "b!u", "u = u - x",
                     "q = fb(u)"]
 UNSET_CONDITIONS = ["u > 1", "q", "fb(x)", "fz(u) == 0", "u == x + 1", "u < -1"]
+# With `shared`: a variable the machines require (RoboTool's memory model, docs/semantics.md §5.5): in
+# a controller each machine keeps a copy that the controller's memory updates; a machine on its own
+# writes it visibly (`M::set_s`) and its environment writes it (`M::set_EXT_s`).
+SHARED_INTERFACE = "interface Shared { var s : int }\n"
+SHARED_STATEMENTS = ["s = x", "s = s + 1", "b!s", "x = s", "s = -s"]
+SHARED_CONDITIONS = ["s > 0", "s == x", "s != 1"]
+SHARED_KEEPERS = ["  var s : int", "  var s : int = 1", "  requires Shared"]
 DATA_RANGES = Ranges({"core_int": Range(Fraction(-1), Fraction(1))},
                      {"M::d": Range(Fraction(0), Fraction(2))})
 
 
 def machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
                  name: str = "M", data: bool = False, enums: bool = False,
-                 durings: bool = False, unset: bool = False) -> tuple[str, list[str]]:
+                 durings: bool = False, unset: bool = False, shared: bool = False) -> tuple[str, list[str]]:
     """A random machine and the names of its states; `pick(options)` and `number(lo, hi)` choose.
     With `data`, its variables include a sequence, a set and a tuple (`DATA_STATEMENTS`, …); with
     `enums`, a value of an enumeration whose literals take parameters (`ENUM_STATEMENTS`, …); with
@@ -92,12 +99,15 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
                                             triggers + ENUM_TRIGGERS)
     if unset:
         statements, conditions = statements + UNSET_STATEMENTS, conditions + UNSET_CONDITIONS
+    if shared:
+        statements, conditions = statements + SHARED_STATEMENTS, conditions + SHARED_CONDITIONS
     n = number(1, 4)
     states = [f"S{k}" for k in range(n)]
     composite = number(0, 1) == 1 or durings
     lines = [f"stm {name} {{", "  requires Ops", "  event a : int", "  event b : int", "  event c",
              "  var x : int = 0", "  clock C", *(DATA_DECLARATIONS if data else []),
-             *(ENUM_DECLARATIONS if enums else []), *(UNSET_DECLARATIONS if unset else []), "  initial i"]
+             *(ENUM_DECLARATIONS if enums else []), *(UNSET_DECLARATIONS if unset else []),
+             *(["  requires Shared"] if shared else []), "  initial i"]
     for s in states:
         entry = f" entry {pick(statements)}" if number(0, 1) else ""
         if s == "S0" and composite:
@@ -134,8 +144,8 @@ def machine_text(pick: Callable[[list], object], number: Callable[[int, int], in
     if "J" in targets and not any("from J " in line for line in lines):
         lines.append(f"  transition tj {{ from J to {states[0]} }}")
     lines.append("}")
-    return ((ENUM_TYPE if enums else "") + (UNSET_FUNCTIONS if unset else "") + "interface Ops { op(n : int) }\n"
-            + "\n".join(lines) + "\n", states)
+    return ((ENUM_TYPE if enums else "") + (UNSET_FUNCTIONS if unset else "") + (SHARED_INTERFACE if shared else "")
+            + "interface Ops { op(n : int) }\n" + "\n".join(lines) + "\n", states)
 
 
 def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int],
@@ -146,7 +156,7 @@ def data_machine_text(pick: Callable[[list], object], number: Callable[[int, int
 
 
 def network_text(pick: Callable[[list], object], number: Callable[[int, int], int],
-                 bidirectional: bool = False) -> tuple[str, list[str]]:
+                 bidirectional: bool = False, shared: bool = False) -> tuple[str, list[str]]:
     """A random controller M of two or three random machines in a chain: P's output b feeds Q's input
     a, and so on (each link synchronous or asynchronous); the environment feeds P's a, and the last
     machine's b is M's output.  The machines' `op(x)` is a platform operation, or one M defines
@@ -159,11 +169,13 @@ def network_text(pick: Callable[[list], object], number: Callable[[int, int], in
     p_states: list[str] = []
     all_states: list[list[str]] = []
     for k, name in enumerate(names):
-        text, states = machine_text(pick, number, name)
-        texts.append(text if k == 0 else text.split("\n", 1)[1])  # one `interface Ops`
+        text, states = machine_text(pick, number, name, shared=shared)
+        texts.append(text if k == 0 else text.split("\n", 2 if shared else 1)[-1])  # one `interface Ops`
         p_states = p_states or states
         all_states.append(states)
     lines = ["controller M {", "  event a : int", "  event b : int"]
+    if shared:  # the controller keeps the variable (with or without an initial value) or requires it
+        lines.append(str(pick(SHARED_KEEPERS)))
     lines += _operation(pick, number) if number(0, 1) else ["  requires Ops"]
     lines += [f"  sref {n} = {n}" for n in names]
     lines.append(f"  connection M on a to {names[0]} on a")
@@ -550,7 +562,7 @@ def _visible(r: Result) -> int:
 def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data: bool = False,
                 untimed: bool = False, tick_tock: bool = False, operations: bool = False,
                 bidirectional: bool = False, enums: bool = False, durings: bool = False,
-                unset: bool = False) -> tuple[str, str]:
+                unset: bool = False, shared: bool = False) -> tuple[str, str]:
     """The case of a seed: a random machine, or with probability `controllers` a random controller;
     with `specs`, refinements of specifications too, with `untimed` the untimed and failures forms,
     with `tick_tock` refinements in the tick-tock model (`assertions_text`); with `data`, a machine
@@ -562,8 +574,15 @@ def random_case(seed: int, controllers: float = 0.25, specs: bool = False, data:
     without them a seed's case is as before.  With `enums`, the case is a machine (never a
     controller) with a value of an enumeration whose literals take parameters (`ENUM_TYPE`); with
     `durings`, a machine whose composite state has a during action (`DURING_ACTIONS`); with `unset`, a
-    machine with variables without an initial value and functions without a body (`UNSET_STATEMENTS`)."""
+    machine with variables without an initial value and functions without a body (`UNSET_STATEMENTS`);
+    with `shared`, a controller (three cases in four) whose machines share a variable, or a machine
+    that requires one (`SHARED_STATEMENTS`)."""
     rng = random.Random(seed)
+    if shared:
+        network = rng.random() < 0.75
+        rct, states = (network_text(rng.choice, rng.randint, shared=True) if network
+                       else machine_text(rng.choice, rng.randint, shared=True))
+        return rct, assertions_text(states, rng.choice, specs, untimed, tick_tock=tick_tock)
     network = not data and not enums and not durings and not unset and rng.random() < controllers
     make = data_machine_text if data else network_text if network else machine_text
     extra = {k: True for k, on in (("enums", enums), ("durings", durings), ("unset", unset)) if on}

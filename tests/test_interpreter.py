@@ -730,11 +730,11 @@ controller Ctrl {
 
 
 def test_rule13_shared_variable(tmp_path) -> None:
-    """§2.13: W writes the controller's sv = 3; R reads it (initially 0). R alone has its own copy,
-    any value of its range."""
+    """§2.13, §5.5: W writes the controller's sv = 3; R reads its copy (initially 0). R alone has its
+    own copy, any value of its range in the open reading."""
     it = make(tmp_path, SHARED_VAR, "Ctrl")
     [c0] = it.initial()
-    assert it.variables(c0) == {"sv": 0}
+    assert it.variables(c0) == {"sv": 0, "W.sv": 0, "R.sv": 0}
     assert search(it, it.terminated) == ["Ctrl::res.out.3", "Ctrl::terminate"]
     alone = make(tmp_path, SHARED_VAR, "R", M1_1)
     assert sorted(alone.variables(c)["R.sv"] for c in alone.initial()) == [-1, 0, 1]

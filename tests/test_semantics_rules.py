@@ -933,12 +933,30 @@ def test_rule13_shared_controller_variable(tmp_path) -> None:
 
 
 def test_rule13_machine_alone_has_own_copy(tmp_path) -> None:
-    """§2.13, §2.14: R alone starts with any sv of its type (within the range), never changed."""
-    text = "assertion NR: R does not terminate.\n"
+    """§2.13, §5.5: R alone keeps its own copy of sv, from RoboTool's default 0, which only its
+    environment's visible writes (`R::set_EXT_sv`) change, within the range; W alone's write is
+    the visible event `W::set_sv`."""
+    text = "assertion NR: R does not terminate.\nassertion NW: W does not terminate.\n"
     rs = run(tmp_path, SHARED_VAR, text, ranges=MINUS1_1)
     expect(rs["NR"], "holds")
     rs = run(tmp_path, SHARED_VAR, text)
-    expect(rs["NR"], "violated", ["R::res.out.3", "R::terminate"])
+    expect(rs["NR"], "violated", ["R::set_EXT_sv.3", "R::res.out.3", "R::terminate"])
+    expect(rs["NW"], "violated", ["W::set_sv.3", "W::terminate"])
+
+
+def test_rule13_copies_are_updated_late(tmp_path) -> None:
+    """§5.5: each machine keeps a copy of sv; W's write reaches R's copy by a hidden step of the
+    controller's memory, which may come after R has read its copy: R may see 0 after W wrote 3, so
+    `res.out.0` is possible.  The copies start at int's default 0, not the controller's 5, which
+    the memory passes on at the start."""
+    late = SHARED_VAR.replace("condition sv == 3 action res!sv", "action res!sv").replace("var sv : int = 0",
+                                                                                             "var sv : int = 5")
+    text = ("csp S35 csp-begin\nS35 = Ctrl::res.out.3 -> SKIP [] Ctrl::res.out.5 -> SKIP\ncsp-end\n"
+            "csp S03 csp-begin\nS03 = Ctrl::res.out.0 -> SKIP [] Ctrl::res.out.3 -> SKIP\ncsp-end\n"
+            "assertion A35: Ctrl refines S35 in the traces model.\nassertion A03: Ctrl refines S03 in the traces model.\n")
+    rs = run(tmp_path, late, text, bound=20)
+    expect(rs["A35"], "violated", ["Ctrl::res.out.0"])
+    expect(rs["A03"], "violated", ["Ctrl::res.out.5"])
 
 
 # ---------------------------------------------------------------------------- rule 14

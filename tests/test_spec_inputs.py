@@ -121,21 +121,21 @@ def test_an_unbounded_input_the_specification_reads_is_unsupported(tmp_path: Pat
     assert "does not track" in (e.reason or "") and "m.assertions:3" in (e.reason or ""), e.reason
 
 
-def test_robotool_memory_channels_are_unsupported(tmp_path: Path) -> None:
-    """RoboTool shows a write of a platform-provided variable as `M::set_x`; tockbmc has no such
-    event, so a specification naming one is unsupported (it would otherwise be violated)."""
+def test_robotool_read_channels_are_unsupported(tmp_path: Path) -> None:
+    """RoboTool's reads of a variable (`M::get_x`) are hidden and are no events here, so a
+    specification naming one is unsupported; its writes (`set_x`) are events (docs/semantics.md §5.5)."""
     rct = BUFFER + "module M { rref rp = RP  cref c = CT  connection rp on In to c on In ( _async ) }\n" \
                    "robotic platform RP { uses IEvents  var x : nat }\n"
     spec = """
 untimed csp W csp-begin
-W = M::In.in?y -> M::set_x!y -> W
+W = M::In.in?y -> M::get_x!y -> W
 csp-end
 untimed assertion W : M refines W in the traces model
 """
     symbolic, concrete = both(tmp_path, rct, spec)
     for results in (symbolic, concrete):
         assert results["W"].verdict == "unsupported"
-        assert "RoboTool's channel for writing variable x" in (results["W"].reason or "")
+        assert "RoboTool's channel for reading variable x" in (results["W"].reason or "")
 
 
 def test_a_variable_an_operation_requires_from_its_calling_operation_is_that_operation_s(tmp_path: Path) -> None:

@@ -223,6 +223,11 @@ def _move_event(u: Unroller, m: Move, i: int, model: z3.ModelRef) -> str:
         value = (u.input(names.input_value(end.name), i) if m.role == "env-write"
                  else u.value_at(u.system.value(names.buffer_value(m.link.index), end.event.type), i))
         return f"{end.name}.{direction}.{value_text(value, model, end.event.type)}"
+    if m.role in ("set", "env-set"):  # RoboTool's memory model: `C::set_x.v`, `C::set_EXT_x.v`
+        assert m.copies is not None
+        name = m.copies.written if m.role == "set" else m.copies.external
+        t = m.copies.variable.type
+        return f"{name}.{value_text(u.value_at(u.system.written_value(m), i), model, t)}"
     c, e = m.parts[0]
     return _edge_event(u, c, e, i, model, None)
 
@@ -232,6 +237,10 @@ def _note(u: Unroller, m: Move) -> str:
     system = u.system
     if m.role == "terminate":  # a module's: hidden, so an internal step (docs/semantics.md §5.6)
         return f"{system.name} terminates"
+    if m.role == "pass":  # RoboTool's memory model: the memory passes a write on to one copy
+        assert m.copies is not None
+        reader = system.components[m.copies.readers[m.reader]].name
+        return f"{m.copies.variable.name} passed on to {reader}'s copy"
     notes = []
     for c, e in m.parts:
         who = system.components[c].name

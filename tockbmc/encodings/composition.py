@@ -16,6 +16,7 @@ from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Automaton, compile_machine
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.readings import given_initial
 from tockbmc.model.untimed import untimed
 
 
@@ -67,6 +68,36 @@ class Component:
 
 
 @dataclass(frozen=True)
+class Copies:
+    """RoboTool's memory model for one shared variable (docs/semantics.md §5.5).
+
+    Each machine that requires the variable keeps a copy of it (`readers`, in the order RoboTool's
+    memory passes a value on).  A machine's write changes its own copy at once and, where the
+    memory is inside the element (`passes_writes`), is passed on to every copy, the writer's
+    included, one hidden step each; the memory takes no other write until it has passed one on.
+    The write is the visible event `written` (RoboTool's `set_x`) where RoboTool leaves it
+    visible; the environment writes the variable by the visible event `external` (`set_EXT_x`)
+    where it can.  `start` is the initial value the model gives the variable, which the memory
+    passes on at the start: the copies start at their type's default, as RoboTool's do."""
+
+    key: str
+    variable: ast.Variable
+    readers: tuple[int, ...]
+    passes_writes: bool
+    written: str | None = None
+    external: str | None = None
+    start: ast.Expr | None = None
+    direct: bool = False  # the environment writes the one copy at once (a machine checked on its own)
+
+    @property
+    def stateful(self) -> bool:
+        """Whether the memory holds a value being passed on (`names.passing`); else a write
+        reaches no copy but the writer's and the environment's reaches the one copy at once."""
+        return (self.start is not None or self.passes_writes and len(self.readers) > 1
+                or self.external is not None and not self.direct)
+
+
+@dataclass(frozen=True)
 class Network:
     """The element checked: its machines, its links, and what the machines share."""
 
@@ -77,6 +108,8 @@ class Network:
     # and, per (component, name) of a variable the machine requires, the key it shares.
     shared: dict[str, ast.Variable] = field(default_factory=dict)
     scopes: dict[tuple[int, str], str] = field(default_factory=dict)
+    # The shared variables whose machines keep copies (RoboTool's memory model), by scope key.
+    copies: dict[str, Copies] = field(default_factory=dict)
     # False in RoboTool's untimed semantics (docs/semantics.md §7.11): the machines are the model
     # rewritten by `model.untimed` and `tock` is never possible.
     timed: bool = True
@@ -114,6 +147,12 @@ class _Flattener:
         self.shared: dict[str, ast.Variable] = {}
         self.scopes: dict[tuple[int, str], str] = {}
         self.platform: set[str] = set()
+        # who keeps each shared variable's memory: "controller", "platform" (a variable of an
+        # interface the platform provides: "provided"); a key not listed is required from outside
+        # the element, named after `outside[key]`
+        self.keeper: dict[str, str] = {}
+        self.outside: dict[str, str] = {}
+        self.alone = False  # a machine checked on its own
         # (component, event) of a machine's event on a bidirectional boundary connection: listed
         # as both an input and an output of its controller, and joined to the outside once
         self.both_ways: set[tuple[int, str]] = set()
@@ -132,11 +171,29 @@ class _Flattener:
                                        "one-to-many connections are not encoded yet")
         self.links.append(Link(len(self.links), sender, receiver, asynchronous, pos))
 
-    def share(self, variables: tuple[ast.Variable, ...], scope: str) -> None:
+    def share(self, variables: tuple[ast.Variable, ...], scope: str, keeper: str,
+              provided: tuple[str, ...] = ()) -> None:
         for v in variables:
-            self.shared.setdefault(names.shared(f"{scope}{v.name}"), v)
+            key = names.shared(f"{scope}{v.name}")
+            self.shared.setdefault(key, v)
+            self.keeper.setdefault(key, "provided" if ast.in_interfaces(v, provided) else keeper)
 
-    def require(self, c: int, m: ast.StateMachine, controller: str) -> None:
+    def require_alone(self, m: ast.StateMachine) -> None:
+        """A machine checked on its own: each variable it requires is its own copy, which its
+        environment writes (RoboTool's `M::set_EXT_x`) and its writes are visible (`M::set_x`)."""
+        self.alone = True
+        local = {v.name for v in m.variables if not v.constant}
+        inlined = [v for scope, v in self.components[0].automaton.extra_variables
+                   if not scope and not v.constant and v.name not in local]
+        for v in (*m.interface_variables, *inlined):
+            if v.constant or ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces)):
+                continue
+            key = names.variable(self.components[0].name, v.name)
+            self.shared.setdefault(key, v)
+            self.scopes[(0, v.name)] = key
+            self.outside[key] = m.name
+
+    def require(self, c: int, m: ast.StateMachine, controller: str, own: tuple[str, ...] = ()) -> None:
         """Bind the variables machine c requires to its controller's, else the platform's (docs/semantics.md §5.5).
 
         A variable of an interface the machine provides or uses is its own (RoboTool names a used
@@ -155,6 +212,12 @@ class _Flattener:
             key = names.shared(f"{controller}.{v.name}")
             if key not in self.shared and v.name in self.platform:
                 key = names.shared(v.name)
+            if key not in self.shared and not v.constant:
+                # a variable of an interface the controller uses or provides is its own
+                if ast.in_interfaces(v, own):
+                    self.keeper[key] = "controller"
+                else:
+                    self.outside[key] = controller.rsplit("::", 1)[-1]
             self.shared.setdefault(key, v)
             self.scopes[(c, v.name)] = key
 
@@ -170,11 +233,11 @@ class _Flattener:
         names = [mi.machine.name for mi in c.machines]
         index: dict[str, int] = {}
         machines = {mi.name: mi.machine for mi in c.machines}
-        self.share(c.variables, f"{prefix}{c.name}.")
+        self.share(c.variables, f"{prefix}{c.name}.", "controller")
         for mi in c.machines:
             label = mi.machine.name if names.count(mi.machine.name) == 1 else mi.name
             index[mi.name] = self.machine(mi.machine, f"{prefix}{label}", defined, (*path, mi.name))
-            self.require(index[mi.name], mi.machine, f"{prefix}{c.name}")
+            self.require(index[mi.name], mi.machine, f"{prefix}{c.name}", (*c.used_interfaces, *c.provided_interfaces))
         inputs: dict[str, list[tuple[Port, bool]]] = {}
         outputs: dict[str, list[tuple[Port, bool]]] = {}
         for conn in c.connections:
@@ -225,7 +288,30 @@ class _Flattener:
                 self.link(port, external, asynchronous or inner_async, pos)
 
     def network(self) -> Network:
-        return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared), dict(self.scopes))
+        return Network(self.name, tuple(self.components), tuple(self.links), dict(self.shared), dict(self.scopes),
+                       self.copies())
+
+    def copies(self) -> dict[str, Copies]:
+        """The shared variables RoboTool's memory model makes more than one variable (docs/semantics.md
+        §5.5).  One kept inside the element that one machine requires, with nothing to pass on at the
+        start, stays one variable: its copy changes only when it writes it."""
+        out: dict[str, Copies] = {}
+        for key, v in self.shared.items():
+            readers = tuple(sorted({c for (c, _n), k in self.scopes.items() if k == key}))
+            if v.constant or not readers:
+                continue
+            keeper = self.keeper.get(key)
+            if keeper is None:
+                outer = self.outside[key]
+                found = Copies(key, v, readers, False, f"{outer}::set_{v.name}", f"{outer}::set_EXT_{v.name}",
+                               direct=self.alone)
+            else:
+                start = given_initial(v)
+                found = Copies(key, v, readers, True, f"{self.name}::set_{v.name}" if keeper == "provided" else None,
+                               None, start)
+            if found.stateful or found.written is not None:
+                out[key] = found
+        return out
 
 
 def of_machine(m: ast.StateMachine, defined: dict[str, ast.OperationDef] | None = None) -> Network:
@@ -235,6 +321,7 @@ def of_machine(m: ast.StateMachine, defined: dict[str, ast.OperationDef] | None 
     """
     f = _Flattener(m.name)
     f.machine(m, m.name, defined)
+    f.require_alone(m)
     return f.network()
 
 
@@ -257,7 +344,7 @@ def of_module(m: ast.Module) -> Network:
     """A module: its controllers joined to each other and to the platform (visible as `Mod::e`)."""
     f = _Flattener(m.name)
     if m.platform is not None:
-        f.share(m.platform.variables, "")
+        f.share(m.platform.variables, "", "platform", m.platform.provided_interfaces)
         f.platform = {v.name for v in m.platform.variables}
     ends: dict[str, tuple[ast.Controller, dict, dict]] = {}
     for ci in m.controllers:

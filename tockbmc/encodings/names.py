@@ -60,6 +60,17 @@ def _global(slot: str) -> bool:
     return head.startswith("buffer") and head[6:].isdigit() and field in ("full", "value")
 
 
+def next_copy(key: str) -> str:
+    """Which copy a shared variable's memory passes its value to next (RoboTool's memory model;
+    the number of copies when it passes none)."""
+    return f"{key}#next"
+
+
+def passing(key: str) -> str:
+    """The value a shared variable's memory is passing on to the copies."""
+    return f"{key}#passing"
+
+
 def constant(component: str, name: str) -> str:
     return f"{component}::{name}"
 

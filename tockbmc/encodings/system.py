@@ -26,7 +26,7 @@ import z3
 
 from tockbmc.encodings import names
 from tockbmc.encodings.automaton import Edge, TriggerDeadline
-from tockbmc.encodings.composition import External, Link, Network, Port
+from tockbmc.encodings.composition import Copies, External, Link, Network, Port
 from tockbmc.encodings.values import (
     CHOSEN,
     Evaluator,
@@ -54,6 +54,7 @@ from tockbmc.model import ast
 from tockbmc.model.config import constant_setting, declaration_key, instance_key, instance_name
 from tockbmc.model.csp import canonical
 from tockbmc.model.errors import Unsupported
+from tockbmc.model.readings import default_value
 
 _MAX_TERMINATIONS = 64  # combinations of final states, one `terminate` move each
 
@@ -66,7 +67,9 @@ class Move:
     that move together: none for tock and for the environment's side of a
     buffer, one for a machine's own step, two for a synchronous connection, one
     per machine for the element's `terminate`.
-    role: local | sync | write | read | env-write | env-read | terminate | tock.
+    role: local | sync | write | read | env-write | env-read | terminate | tock, and for
+    RoboTool's memory model (docs/semantics.md §5.5) set (a machine's visible write of a shared
+    variable), env-set (the environment's) and pass (the memory passes a value on to one copy).
     """
 
     index: int
@@ -76,11 +79,14 @@ class Move:
     link: Link | None = None
     hidden: bool = False  # a visible event that a CSP context hides, so internal (and urgent)
     blocked: bool = False  # a visible event that a CSP context blocks (`P [| A |] SKIP`)
+    copies: Copies | None = None  # set, env-set, pass: the shared variable's memory (RoboTool's)
+    reader: int = -1  # pass: which of its copies the memory passes the value to
 
     @property
     def urgent(self) -> bool:
-        """Internal steps and operation calls may not wait for `tock` (docs/semantics.md §3.3–§3.4)."""
-        return self.kind == "internal" or any(e.kind == "call" for _, e in self.parts)
+        """Internal steps, operation calls and RoboTool's visible writes of shared variables may not
+        wait for `tock` (docs/semantics.md §3.3–§3.4, §5.5)."""
+        return self.kind == "internal" or self.role == "set" or any(e.kind == "call" for _, e in self.parts)
 
 
 @dataclass
@@ -144,10 +150,15 @@ class TransitionSystem:
         self.constants: dict[int, dict[int, Value]] = {}  # component -> id(constant) -> value
         self.slots: dict[int, dict[int, tuple[str, ast.Type]]] = {}  # component -> id(variable) -> slot
         self.initial: dict[str, tuple[ast.Type, ast.Expr | None, int, str]] = {}  # slot -> (type, initial, component, declaration)
+        self.copy_slots: dict[tuple[int, str], str] = {}  # (component, shared key) -> its copy's slot
         self._effects: dict[int, _Effect] = {}
         self._built: dict[str, z3.BoolRef] = {}
         self._declare()
         self.moves = self._moves()
+        # per component, the locations where it offers a visible write (RoboTool's `set_x`), urgent
+        # as RoboTool's `prioritise(…, <visible memory events, {tock}>)` makes it
+        self._writing = [frozenset(e.source for m in self.moves if m.role == "set" for c2, e in m.parts if c2 == c)
+                         for c in range(len(self.components))]
         self.TOCK = len(self.moves) - 1
         self.tock_hidden = False
         self.extension: Extension | None = None  # the CSP context's (a monitor or a trace follower)
@@ -233,6 +244,9 @@ class TransitionSystem:
             end = m.link.sender if m.role == "env-write" else m.link.receiver
             assert isinstance(end, External)
             return (canonical(end.name), "in" if m.role == "env-write" else "out"), int(end.event.type is not None)
+        if m.role in ("set", "env-set"):
+            assert m.copies is not None
+            return (canonical((m.copies.written if m.role == "set" else m.copies.external) or ""),), 1
         c, e = m.parts[0]
         if e.kind == "terminate":
             return (canonical(f"{self.name}::terminate"),), 0
@@ -257,6 +271,8 @@ class TransitionSystem:
             value = (self.input(names.input_value(end.name), t) if m.role == "env-write"
                      else self.value(names.buffer_value(m.link.index), t))
             return [(value, t)]
+        if m.role in ("set", "env-set"):
+            return [(self.written_value(m), m.copies.variable.type)]  # type: ignore[union-attr]
         c, e = m.parts[0]
         if e.kind == "terminate":
             return []
@@ -277,6 +293,21 @@ class TransitionSystem:
             return [(self.input(names.input_value(name), t), t)]
         assert e.value is not None
         return [(as_type(ev.value(e.value), t), t)]
+
+    def written_value(self, m: Move) -> Value:
+        """The value a write of a shared variable carries (`set`: the whole variable after the
+        step, as RoboTool's `set_x` does; `env-set`: the one the environment chose)."""
+        cp = m.copies
+        assert cp is not None
+        t = cp.variable.type
+        if m.role == "env-set":
+            assert cp.external is not None
+            return self.input(names.input_value(cp.external), t)
+        c, e = m.parts[0]
+        a = e.updates[0]
+        new = self.evaluator(c, guards=[]).value(a.value)
+        whole = _set_field(self.value(self.slots[c][id(a.variable)][0], t), a.fields, new) if a.fields else new
+        return as_type(whole, t)
 
     # ------------------------------------------------------------ declarations
 
@@ -322,17 +353,22 @@ class TransitionSystem:
                     if key is not None:
                         shared_consts[key] = consts[id(v)]
                     continue
-                base = key or names.variable(comp.name, v.name, scope)
+                cp = self.network.copies.get(key) if key is not None else None
+                base = names.variable(comp.name, v.name) if cp is not None else key or names.variable(comp.name, v.name, scope)
                 slots[id(v)] = (base, v.type)
+                if cp is not None:
+                    self.copy_slots[(c, cp.key)] = base
                 if base not in self.initial:
                     self._scalars(base, v.type)
-                    # a variable a machine checked on its own requires starts anywhere, whatever the
-                    # reading fills in: RoboTool's environment may write it (docs/semantics.md §5.5)
-                    alone = key is None and v.kind == "interface" and \
-                        not ast.in_interfaces(v, (*m.provided_interfaces, *m.used_interfaces))
-                    self.initial[base] = (v.type, None if alone else decl.initial, c, declaration_key(decl))
+                    # a copy whose memory passes a value on at the start starts at its type's default
+                    start = default_value(v.type, v.pos) if cp is not None and cp.start is not None else decl.initial
+                    self.initial[base] = (v.type, start, c, declaration_key(decl))
             self.slots[c] = slots
             self.constants[c] = consts
+        for cp in self.network.copies.values():
+            if cp.stateful:
+                self._slot(names.next_copy(cp.key), z3.IntSort())
+                self._scalars(names.passing(cp.key), cp.variable.type)
         self._declare_unset()
         self._kept: set[str] = set()  # variables whose items are kept in type by an axiom (`_keep_items`)
         for link in self.network.links:
@@ -448,7 +484,10 @@ class TransitionSystem:
 
         for c, comp in enumerate(self.components):
             for e in comp.automaton.edges:
-                if e.kind in ("tau", "wait"):
+                written = self._visible_write(c, e)
+                if written is not None:
+                    moves.append(Move(len(moves), "event", "set", ((c, e),), copies=written))
+                elif e.kind in ("tau", "wait"):
                     add("internal", "local", ((c, e),))
                 elif e.kind == "terminate":
                     # the element's joint moves, where the first machine's termination is (the order
@@ -495,8 +534,30 @@ class TransitionSystem:
                 add("event", "env-write", (), link)
             elif link.asynchronous and isinstance(link.receiver, External):
                 add("event", "env-read", (), link)
+        for cp in self.network.copies.values():
+            if cp.external is not None:
+                moves.append(Move(len(moves), "event", "env-set", copies=cp))
+            if cp.stateful:
+                moves += [Move(len(moves) + j, "internal", "pass", copies=cp, reader=j) for j in range(len(cp.readers))]
         add("tock", "tock")
         return moves
+
+    def _copies(self, c: int, v: ast.Variable) -> Copies | None:
+        """The memory of a shared variable component c keeps a copy of, if it does."""
+        key = self.shared_key(c, v)
+        return self.network.copies.get(key) if key is not None else None
+
+    def _visible_write(self, c: int, e: Edge) -> Copies | None:
+        """The memory of the shared variable edge e writes where the write is a visible event
+        (RoboTool's `set_x`), if it is."""
+        for v in [a.variable for a in e.updates] + ([e.binds] if e.binds is not None else []):
+            cp = self._copies(c, v)
+            if cp is not None and cp.written is not None:
+                if e.kind != "tau":
+                    raise Unsupported(e.pos or v.pos, f"an input into variable {v.name}, whose writes are visible "
+                                                      f"as RoboTool's {cp.written}, is not encoded yet")
+                return cp
+        return None
 
     def _terminations(self) -> list[tuple[tuple[int, Edge], ...]]:
         """The element's `terminate`: every machine at a final state takes its `terminate` edge at
@@ -580,6 +641,14 @@ class TransitionSystem:
             if key in bound or any(id(a.variable) == key for a in e.updates) or any(id(v) == key for v in e.havoc):
                 for path, term in leaves(current[key]):
                     post[base + path] = term
+        for v in [a.variable for a in e.updates] + ([e.binds] if e.binds is not None else []):
+            cp = self._copies(c, v)
+            if cp is not None and cp.passes_writes and cp.stateful:
+                # the memory takes the write once it has passed the last one on, and passes it on
+                enabled.append(self._idle(cp))
+                post[names.next_copy(cp.key)] = z3.IntVal(0)
+                for path, term in leaves(current[id(v)]):
+                    post[names.passing(cp.key) + path] = term
         if e.target != e.source:
             post[names.location(comp.name)] = z3.IntVal(e.target)
         for clock in e.resets:
@@ -596,6 +665,44 @@ class TransitionSystem:
             if e.target not in td.armed or td.source in e.exits:
                 post[names.armed(comp.name, td.transition)] = z3.IntVal(0)
         return enabled, choose, sent
+
+    def _idle(self, cp: Copies) -> z3.BoolRef:
+        """The memory of a shared variable is passing no value on."""
+        return self.cur[names.next_copy(cp.key)] == len(cp.readers)  # type: ignore[return-value]
+
+    def _copy(self, cp: Copies, reader: int) -> Value:
+        """The copy of a shared variable that the memory's `reader`-th machine keeps."""
+        return self.value(self.copy_slots[(cp.readers[reader], cp.key)], cp.variable.type)
+
+    def _passing(self, cp: Copies) -> Value:
+        return self.value(names.passing(cp.key), cp.variable.type)
+
+    def _memory_effect(self, m: Move, post: dict[str, z3.ExprRef]) -> tuple[list[z3.BoolRef], list[z3.BoolRef], list[z3.ExprRef]]:
+        """RoboTool's memory model: the environment writes a shared variable (`env-set`), or the
+        memory passes the value it holds on to one copy (`pass`).  Returns (conditions, constraints
+        on chosen values, the values chosen)."""
+        cp = m.copies
+        assert cp is not None
+        t = cp.variable.type
+        if m.role == "pass":
+            slot = self.copy_slots[(cp.readers[m.reader], cp.key)]
+            for path, term in leaves(self._passing(cp)):
+                post[slot + path] = term
+            post[names.next_copy(cp.key)] = z3.IntVal(m.reader + 1)
+            return [self.cur[names.next_copy(cp.key)] == m.reader], [], []  # type: ignore[list-item]
+        assert cp.external is not None
+        value = self.input(names.input_value(cp.external), t)
+        choose = domain(value, t, self.ranges, declaration_key(cp.variable))
+        if cp.direct:
+            slot = self.copy_slots[(cp.readers[0], cp.key)]
+            enabled: list[z3.BoolRef] = []
+        else:
+            slot = names.passing(cp.key)
+            post[names.next_copy(cp.key)] = z3.IntVal(0)
+            enabled = [self._idle(cp)]
+        for path, term in leaves(value):
+            post[slot + path] = term
+        return enabled, choose, [term for _, term in leaves(value)]
 
     def _input(self, name: str, event: ast.Event, path: str) -> tuple[Value, list[z3.BoolRef]]:
         """A value the environment supplies on `event`, within its type and ranges."""
@@ -627,7 +734,11 @@ class TransitionSystem:
                 en, ch, _ = self._edge(c, e, None, post)
                 enabled += en
                 choose += ch
-        elif m.role == "local":
+        elif m.role in ("env-set", "pass"):
+            en, ch, inputs = self._memory_effect(m, post)
+            enabled += en
+            choose += ch
+        elif m.role in ("local", "set"):
             c, e = m.parts[0]
             incoming = None
             if e.kind == "in" and e.event is not None and e.event.type is not None:
@@ -742,6 +853,8 @@ class TransitionSystem:
     def enabled(self, m: Move) -> z3.BoolRef:
         """Move m is possible; for a visible input, for some value the environment may offer."""
         eff = self.effect(m)
+        if m.role == "env-set":  # every type has a value within its ranges: no quantifier needed
+            return z3.And(eff.enabled)
         if eff.chosen:
             if eff.side:  # the function axioms must hold at every value, not only at the one chosen
                 self.side.append(z3.ForAll(eff.chosen, z3.And(eff.side)))
@@ -779,7 +892,7 @@ class TransitionSystem:
         cs = [z3.Not(self.halted()), z3.Not(self.internal_enabled())]
         f = self.cur
         for c, comp in enumerate(self.components):
-            cs.append(z3.Not(self.located(c, comp.automaton.urgent)))
+            cs.append(z3.Not(self.located(c, comp.automaton.urgent | self._writing[c])))
             cs.append(z3.Implies(self.located(c, comp.automaton.deadlined), f[names.deadline(comp.name)] > 0))
             for td in comp.automaton.trigger_deadlines:
                 bound = self._deadline_scalar(c, td.bound)
@@ -810,6 +923,12 @@ class TransitionSystem:
         for link in self.network.links:
             if link.asynchronous:
                 cs.append(z3.Not(f[names.buffer_full(link.index)]))
+        for cp in self.network.copies.values():
+            if cp.stateful:
+                cs.append(f[names.next_copy(cp.key)] == (0 if cp.start is not None else len(cp.readers)))
+            if cp.start is not None:
+                cs += initially(self._passing(cp), cp.variable.type, cp.start, self.evaluator(cp.readers[0]),
+                                self.ranges, declaration_key(cp.variable))
         cs += [ext.init(self) for ext in self.extensions]
         return z3.And(cs)
 

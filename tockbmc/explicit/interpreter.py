@@ -114,6 +114,7 @@ from tockbmc.model import ast
 from tockbmc.model.config import instance_key
 from tockbmc.model.data import Product, Variant, text_of
 from tockbmc.model.during import composite_during_problem
+from tockbmc.model.readings import default_value, given_initial
 from tockbmc.model.untimed import untimed
 
 # ----------------------------------------------------------------------------- public values
@@ -666,6 +667,25 @@ class _Slot(NamedTuple):
     inst: int | None
 
 
+class _Copies(NamedTuple):
+    """RoboTool's memory model for one shared variable (docs/semantics.md §5.5): each machine that
+    requires it keeps a copy (`readers`, by instance); a write changes the writer's copy and, where
+    the memory is inside the element (`passes_writes`), the memory passes it on to every copy, one
+    internal step each, taking no other write meanwhile (slot `mem`: None, or (value, next reader)).
+    `written`/`external` name the visible writes of the machines and of the environment; `start` is
+    the initial value the model gives it, passed on at the start (the copies start at the default)."""
+
+    name: str
+    decl: ast.Variable
+    readers: tuple[int, ...]
+    passes_writes: bool
+    written: str | None
+    external: str | None
+    start: ast.Expr | None
+    direct: bool
+    mem: int | None  # the memory's slot, where it holds a value being passed on
+
+
 class _Ctx:
     """A configuration's store being changed: reads see the writes made so far."""
 
@@ -760,12 +780,18 @@ class Interpreter:
         # operation's checked on its own (§4.8)
         self.hidden_termination = isinstance(element, (ast.Module, ast.OperationMachine))
         self._shared_vars: list[ast.Variable] = []
+        # who keeps a shared variable's memory, by name: "controller", "platform", "provided" (an
+        # interface the platform provides); one not listed is required from outside, named
+        # after `_outside[name]` (RoboTool's `C::set_x`)
+        self._keeper: dict[str, str] = {}
+        self._outside: dict[str, str] = {}
 
         if isinstance(element, ast.StateMachine):
             self._add_inst(element, element.name, self.defined)
         elif isinstance(element, ast.Controller):
             self._shared_owners.add(element.qname)
             self._shared_vars.extend(element.variables)
+            self._keep(element)
             b_in, b_out = self._flatten_controller(element, "")
             for ename, entries in b_in.items():
                 self._boundary_env(entries, f"{self.ename}::{ename}", True)
@@ -786,6 +812,10 @@ class Interpreter:
             self._reg(("shared", v.name), "const" if v.constant else "var", v, v.name, None)
         for i, inst in enumerate(self.insts):
             self._scan(i, inst.beh, [])
+        self._copy_slot: dict[int, _Copies] = {}
+        self.copies = self._memory()
+        self._copy_of = {(i, cp.name): cp for cp in self.copies for i in cp.readers}
+        self._copy_slot = {self._slot(i, cp.decl): cp for cp in self.copies for i in cp.readers}
         for n, link in enumerate(self.links):
             if link.asynchronous:
                 link.slot = self._reg(("buf", n), "buf", None, f"buffer {n}", None)
@@ -892,10 +922,14 @@ class Interpreter:
         if mod.platform is not None:
             self._shared_owners.add(mod.platform.qname)
             self._shared_vars.extend(mod.platform.variables)
+            for v in mod.platform.variables:
+                self._keeper.setdefault(
+                    v.name, "provided" if ast.in_interfaces(v, mod.platform.provided_interfaces) else "platform")
         cinfo: dict[str, tuple] = {}
         for ci in mod.controllers:
             self._shared_owners.add(ci.controller.qname)
             self._shared_vars.extend(ci.controller.variables)
+            self._keep(ci.controller)
             b_in, b_out = self._flatten_controller(ci.controller, ci.name + ".")
             cinfo[ci.name] = (ci.controller, b_in, b_out)
         used: set[tuple] = set()
@@ -938,6 +972,53 @@ class Interpreter:
                 if (cname, "out", ename) not in used:
                     self._boundary_env(entries, f"{ctrl.name}::{ename}", False)
 
+    def _keep(self, ctrl: ast.Controller) -> None:
+        """A controller keeps the memory of its variables and of the interfaces it uses or
+        provides; the variables its machines require otherwise come from outside it."""
+        for v in ctrl.variables:
+            self._keeper.setdefault(v.name, "controller")
+        own = (*ctrl.used_interfaces, *ctrl.provided_interfaces)
+        for mi in ctrl.machines:
+            for v in mi.machine.interface_variables:
+                if ast.in_interfaces(v, own):
+                    self._keeper.setdefault(v.name, "controller")
+                self._outside.setdefault(v.name, ctrl.name)
+        for oi in ctrl.operations:
+            for v in oi.operation.interface_variables:
+                self._outside.setdefault(v.name, ctrl.name)
+
+    def _memory(self) -> list[_Copies]:
+        """The shared variables whose machines keep copies, once their slots are known."""
+        readers: dict[str, list[int]] = defaultdict(list)
+        variables: dict[str, ast.Variable] = {}
+        for info in self.slots:
+            key = info.key
+            if key[0] == "copy" or key[0] == "v" and key[2] == "#iface" and not self.network:
+                assert info.var is not None and info.inst is not None
+                if not self.network and (info.var.constant or self._own_interface(info.inst, info.var)):
+                    continue
+                readers[key[-1]].append(info.inst)
+                variables.setdefault(key[-1], info.var)
+        declared = {v.name: v for v in self._shared_vars}
+        out: list[_Copies] = []
+        for name, found in readers.items():
+            decl = declared.get(name, variables[name])
+            keeper = self._keeper.get(name) if self.network else None
+            if keeper is None:
+                outer = self._outside.get(name, self.ename) if self.network else self.ename
+                cp = _Copies(name, decl, tuple(sorted(found)), False, f"{outer}::set_{name}",
+                             f"{outer}::set_EXT_{name}", None, not self.network, None)
+            else:
+                cp = _Copies(name, decl, tuple(sorted(found)), True,
+                             f"{self.ename}::set_{name}" if keeper == "provided" else None, None,
+                             given_initial(decl), False, None)
+            stateful = (cp.start is not None or cp.passes_writes and len(cp.readers) > 1
+                        or cp.external is not None and not cp.direct)
+            if stateful:
+                cp = cp._replace(mem=self._reg(("mem", name), "mem", None, f"memory of {name}", None))
+            out.append(cp)
+        return out
+
     def _sid_of(self, s: ast.Stmt) -> int:
         k = id(s)
         n = self._sid.get(k)
@@ -961,16 +1042,22 @@ class Interpreter:
         if var.kind == "interface" and self._own_interface(i, var):
             return ("v", i, "#iface", var.name)
         if var.kind == "interface" or var.owner in self._shared_owners:
-            return ("shared", var.name) if self.network else ("v", i, "#iface", var.name)
+            if not self.network:
+                return ("v", i, "#iface", var.name)
+            # a machine's copy of a shared variable (RoboTool's memory model); constants are shared
+            return ("shared", var.name) if var.constant else ("copy", i, var.name)
         return ("v", i, var.owner, var.name)
 
-    def _required_alone(self, info: _Slot) -> bool:
-        """Whether the slot is a variable that a machine checked on its own requires: RoboTool's
-        environment may write it at any time, so it starts at any value, whatever the reading fills
-        in (docs/semantics.md §5.5)."""
+    def _start(self, info: _Slot) -> ast.Expr | None:
+        """A variable's initial value: a copy of a shared variable whose memory passes the model's
+        initial value on at the start starts at its type's default (RoboTool's memory model)."""
         var = info.var
-        return (not self.network and var is not None and var.kind == "interface" and not var.constant
-                and info.inst is not None and not self._own_interface(info.inst, var))
+        assert var is not None
+        if info.key[0] in ("copy", "v") and info.inst is not None:
+            cp = self._copy_of.get((info.inst, var.name))
+            if cp is not None:  # the declaration's initial value (a controller's, a platform's)
+                return default_value(var.type, var.pos) if cp.start is not None else cp.decl.initial
+        return var.initial
 
     def _own_interface(self, i: int, var: ast.Variable) -> bool:
         """A variable or constant of an interface the machine provides or uses is its own, one per
@@ -991,6 +1078,8 @@ class Interpreter:
         inst = self.insts[i].name
         if key[0] == "shared":
             display = var.name
+        elif key[0] == "copy":
+            display = f"{inst}.{var.name}"
         elif op is not None and var.owner == op.qname and var.constant and var.kind != "parameter":
             display = f"{inst}.{op.name}().{var.name}"  # an operation's constant: set like the machine's
         elif op is not None and var.owner == op.qname:
@@ -1655,8 +1744,11 @@ class Interpreter:
     def _truth(self, ctx: _Ctx, e: ast.Expr | None) -> bool:
         return True if e is None else bool(self._eval(ctx, e))
 
-    def _assign(self, ctx: _Ctx, var: ast.Variable, fields: tuple[str, ...], value: object) -> bool:
-        """Store `value` in `var` (or one of its fields); False if a nat place would go negative."""
+    def _assign(self, ctx: _Ctx, var: ast.Variable, fields: tuple[str, ...], value: object,
+                visible: bool = False) -> bool:
+        """Store `value` in `var` (or one of its fields); False if a nat place would go negative, or
+        if the memory of a shared variable is still passing a write on. `visible`: the step is the
+        visible write of a shared variable (RoboTool's `set_x`)."""
         slot = self._slot(ctx.i, var)
         t = var.type
         if fields:
@@ -1677,6 +1769,17 @@ class Interpreter:
         if not _fits(t, value):
             return False
         ctx.set(slot, value)
+        cp = self._copy_slot.get(slot)
+        if cp is not None:
+            if cp.written is not None and not visible:
+                raise NotInterpretable(var.pos, f"an input into variable {var.name}, whose writes are visible as "
+                                                f"RoboTool's {cp.written}")
+            if cp.passes_writes and cp.mem is not None:
+                # the memory takes the write once it has passed the last one on, and passes it on
+                if ctx.get(cp.mem) is not None:
+                    return False
+                self._concrete(value)
+                ctx.set(cp.mem, (value, 0))
         return True
 
     # ------------------------------------------------------------------ configurations
@@ -1721,7 +1824,7 @@ class Interpreter:
                     base[s] = _coerce(var.type, val)
                     if not _fits(var.type, base[s]):  # `with constant K set to -1` of a nat K: no run starts
                         return
-                elif var.initial is not None and not self._required_alone(info):
+                elif self._start(info) is not None:
                     deferred.append((s, info))
                     if isinstance(var.initial, ast.RecordLiteral) and var.initial.omitted:
                         # the omitted fields are open (a record of those only), the given ones set after
@@ -1771,8 +1874,8 @@ class Interpreter:
             store[s] = v
         for s, info in deferred:
             ctx = _Ctx(tuple(store), info.inst if info.inst is not None else 0)
-            assert info.var is not None and info.var.initial is not None
-            init = info.var.initial
+            init = self._start(info)
+            assert info.var is not None and init is not None
             if ast.omits_fields(init):
                 assert isinstance(init, ast.RecordLiteral)
                 given = {n: self._eval(ctx, x) for n, x in init.fields}
@@ -1782,6 +1885,12 @@ class Interpreter:
             if not _fits(info.var.type, v):
                 return None
             store[s] = v
+        for cp in self.copies:  # a memory passes the model's initial value on at the start
+            if cp.start is not None and cp.mem is not None:
+                v = _coerce(cp.decl.type, self._eval(_Ctx(tuple(store), cp.readers[0]), cp.start))
+                if not _fits(cp.decl.type, v):
+                    return None
+                store[cp.mem] = (v, 0)
         return Config(frames, self._fix_deadlines(frames, tuple(store)), False)
 
     def _paths_of(self, info: _Slot) -> tuple[str, ...]:
@@ -2039,10 +2148,14 @@ class Interpreter:
         if isinstance(st, ast.Assign):
             ctx = _Ctx(cfg.store, i)
             v = self._eval(ctx, st.value)
-            if self._assign(ctx, st.variable, st.fields, v):
+            cp = self._copy_slot.get(self._slot(i, st.variable))
+            if self._assign(ctx, st.variable, st.fields, v, visible=True):
                 target = ".".join((st.variable.name, *st.fields))
-                out.append(("tau", f"{mname}: {target} := {value_text(st.value.type, _coerce(st.value.type, v))}",
-                            self._result(ctx, done)))
+                if cp is not None and cp.written is not None:  # RoboTool's visible `set_x`: the whole variable
+                    out.append(("set", cp.written, ctx.get(self._slot(i, st.variable)), self._result(ctx, done)))
+                else:
+                    out.append(("tau", f"{mname}: {target} := {value_text(st.value.type, _coerce(st.value.type, v))}",
+                                self._result(ctx, done)))
         elif isinstance(st, ast.Send):
             ctx = _Ctx(cfg.store, i)
             etype = st.event.type
@@ -2193,8 +2306,8 @@ class Interpreter:
         return Event(None, (base, direction), (v,))
 
     def _inputs_for(self, base: str, t: ast.Type | None, paths: tuple[str, ...],
-                    inputs: Mapping[tuple, tuple] | None) -> list:
-        ch = (base, "in")
+                    inputs: Mapping[tuple, tuple] | None, channel: tuple | None = None) -> list:
+        ch = channel or (base, "in")
         if inputs and ch in inputs:
             given = inputs[ch]
             if t is None:
@@ -2264,6 +2377,11 @@ class Interpreter:
                                       self._config(config, [(i, frames, upd)])))
                 elif kind == "term":
                     continue  # the element's terminate: every machine at once, below
+                elif kind == "set":  # urgent, as RoboTool's `prioritise(…, <visible memory events, {tock}>)`
+                    _, base, v, (frames, upd) = m
+                    self._concrete(v, (base,))
+                    urgent = True
+                    steps.append(Step("event", Event(None, (base,), (v,)), self._config(config, [(i, frames, upd)])))
                 elif kind == "out":
                     _, port, t, v, (frames, upd) = m
                     link = self.out_link.get((i, port))
@@ -2335,9 +2453,34 @@ class Interpreter:
                     self._concrete(buf[0], (link.vis, "out"))
                     steps.append(Step("event", self._event(link.vis, "out", link.type, buf[0]),
                                       self._config(config, [], {link.slot: None})))
+        steps += self._memory_steps(config, inputs)
         tock = self._tock(config, steps, urgent) if self.timed else None
         if tock is not None:
             steps.append(Step("tock", TOCK, tock))
+        return steps
+
+    def _memory_steps(self, config: Config, inputs: Mapping[tuple, tuple] | None) -> list[Step]:
+        """RoboTool's memory model: a memory passes the value it holds on to its next copy (an
+        internal step), and the environment writes a variable it can write (`C::set_EXT_x.v`)."""
+        steps: list[Step] = []
+        for cp in self.copies:
+            held = config.store[cp.mem] if cp.mem is not None else None
+            if held is not None:
+                v, j = held
+                reader = cp.readers[j]
+                after = (v, j + 1) if j + 1 < len(cp.readers) else None
+                steps.append(Step("internal", None,
+                                  self._config(config, [], {self._slot(reader, cp.decl): v, cp.mem: after}),  # type: ignore[dict-item]
+                                  f"{cp.name} passed on to {self.insts[reader].name}'s copy"))
+            if cp.external is None or held is not None:
+                continue
+            paths = (cp.external, *(f"{self.insts[r].name}::{cp.name}" for r in cp.readers), f"{cp.decl.owner}::{cp.name}")
+            for v in self._inputs_for(cp.external, cp.decl.type, paths, inputs, (cp.external,)):
+                v = _coerce(cp.decl.type, v)
+                if not _fits(cp.decl.type, v):
+                    continue
+                extra = {self._slot(cp.readers[0], cp.decl): v} if cp.direct else {cp.mem: (v, 0)}
+                steps.append(Step("event", Event(None, (cp.external,), (v,)), self._config(config, [], extra)))  # type: ignore[arg-type]
         return steps
 
     def _terminations(self, config: Config, moves: list[list]) -> list[Step]:

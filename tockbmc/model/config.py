@@ -30,6 +30,7 @@ from lark import Token, Tree
 from tockbmc.model import ast
 from tockbmc.model import instantiation as inst
 from tockbmc.model.diagnostics import Diagnostic, suggestion
+from tockbmc.model.memory import read_before_sending
 from tockbmc.model.ranges import Range, Ranges, is_path
 from tockbmc.model.readings import (
     Filled,
@@ -663,6 +664,7 @@ class Configuration:
         self._reached: dict[int, tuple[Checked, tuple[Filled, ...]]] = {}
         if reading != Reading.OPEN:
             self.project, self.filled = fill_unset(self.project, self._unread)
+        self.project = read_before_sending(self.project)  # RoboTool's memory model (model/memory.py)
         if reading == Reading.ROBOTOOL:
             self.project = bounded_arithmetic(self.project, self._core_ranges(ranges), frozenset(self._written))
         self.names = Names(self.project)  # of the project the checks read: instance chains are its elements

@@ -56,7 +56,8 @@ ROBOTOOL_NOT_REPRODUCED = (
     "core_clock_type = {0..10}: clocks are not bounded",
     "the functions the project's instantiation defines compute exactly, its Plus(a, b, T) and the like included",
     "an unprefixed assertion is checked in the timed semantics only, where RoboTool checks it in both",
-    "RoboTool's memory model for shared variables (a copy per machine, propagated by update events)",
+    "RoboTool's memory model at its finest: an update reaches a copy between two steps of the machine (not "
+    "between the read and the write of one assignment), and each variable's memory passes writes on by itself",
 )
 
 
@@ -106,6 +107,18 @@ def default_value(t: ast.Type, pos: ast.Pos) -> ast.Expr | None:
     if isinstance(t, ast.SetType):
         return ast.SetLiteral(t, pos, ())
     return None
+
+
+def given_initial(v: ast.Variable) -> ast.Expr | None:
+    """v's initial value where the model gives one other than its type's default: not one a
+    reading filled in (`fill_unset` places the default at the declaration), nor a literal equal to
+    the default."""
+    if v.initial is None or v.initial.pos == v.pos:
+        return None
+    default = default_value(v.type, v.pos)
+    if default is not None and describe_value(v.initial) == describe_value(default) != "an expression":
+        return None
+    return v.initial
 
 
 def describe_value(e: ast.Expr) -> str:

@@ -438,11 +438,11 @@ class Evaluator:
             return self.enumerations[name]
         if "::" in name:
             memory = _MEMORY_CHANNEL.fullmatch(name.rsplit("::", 1)[-1])
-            if memory is not None and memory.group(0) in self.memory:
+            if memory is not None and memory.group(0) in self.memory and memory.group(1) != "set":
                 raise self.error(tok, f"'{name}' is RoboTool's channel for "
                                       f"{'reading' if memory.group(1) == 'get' else 'writing'} variable "
-                                      f"{memory.group(2)}; tockbmc's semantics has no events for variable reads "
-                                      "and writes (docs/semantics.md §2), so a specification naming one is not "
+                                      f"{memory.group(2)}; RoboTool hides its reads and tockbmc has no events "
+                                      "for them (docs/semantics.md §5.5), so a specification naming one is not "
                                       "supported")
             return (canonical(name),)
         raise self.error(tok, f"unknown name '{name}'")
@@ -662,7 +662,7 @@ def _mod(a: int, b: int) -> int:
     return a - b * _div(a, b)
 
 
-# RoboTool's channels for a variable's reads and writes (`M::set_reqx`), which tockbmc does not have.
+# RoboTool's channels for a variable's reads and writes (`M::set_reqx`): tockbmc has the visible writes (`set_`) only.
 _MEMORY_CHANNEL = re.compile(r"(set|get|setL|setR)_(\w+)")
 # RoboTool's bounded arithmetic helpers, by the number of operands before the type argument.
 _BOUNDED_ARITHMETIC = {"Plus": 2, "Minus": 2, "Mult": 2, "Div": 2, "Modulus": 2, "Neg": 1}
