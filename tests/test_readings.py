@@ -210,6 +210,37 @@ def test_robotool_division_rounds_towards_zero_within_the_range(tmp_path: Path) 
         assert r.verdict == e.verdict == truncated, (reading, r.reason, e.reason)
 
 
+REAL_DIVISION = """\
+stm M {
+  var r : real
+  var q : real
+  event e : real
+  initial i
+  state wait {}
+  state got { entry q = r / 2 }
+  state half {}
+  state minus {}
+  transition t0 { from i to wait }
+  transition t1 { from wait to got trigger e?r }
+  transition t2 { from got to half condition q > 0 /\\ q < 1 }
+  transition t3 { from got to minus condition q == -1 }
+}
+"""
+
+
+def test_robotool_real_division_rounds_towards_zero_as_fdrs_integer_reals(tmp_path: Path) -> None:
+    """FDR's reals are integers: `1 / 2` is 0 there, so `half` is not reachable with `--robotool`
+    and is by default (exact reals); `-2 / 2` is -1 in both."""
+    files = {"m.rct": REAL_DIVISION,
+             "m.assertions": "assertion Half: half is reachable in M.\nassertion Minus: minus is reachable in M.\n"}
+    robotool, robotool_explicit = both(tmp_path, files, Reading.ROBOTOOL, ranges=Ranges())
+    assert verdicts(robotool) == verdicts(robotool_explicit) == {"Half": "violated", "Minus": "holds"}
+    default, default_explicit = both(tmp_path, files, Reading.DEFAULT,
+                                     ranges=Ranges({"core_real": Range(Fraction(-2), Fraction(2))}))
+    assert verdicts(default) == {"Half": "holds", "Minus": "holds"}
+    assert verdicts(default_explicit) == {"Half": "holds", "Minus": "holds"}
+
+
 SHARED_REQUIRED = """\
 interface I { var v : int }
 stm R {
@@ -223,13 +254,14 @@ stm R {
 """
 
 
-def test_a_variable_a_machine_checked_alone_requires_starts_anywhere_in_every_reading(tmp_path: Path) -> None:
-    """RoboTool's environment may write it at any time (`set_EXT_v`), which is not modelled: it
-    stays open rather than start at 0, and is not listed as a default."""
+def test_a_variable_a_machine_checked_alone_requires_is_written_by_its_environment(tmp_path: Path) -> None:
+    """The copy starts at the type's default, 0, and RoboTool's environment writes it at any time
+    by `R::set_EXT_v`: `big` is reached through that event, in both engines."""
     bmc, explicit = both(tmp_path, {"m.rct": SHARED_REQUIRED, "m.assertions": "assertion B: big is reachable in R.\n"},
                          Reading.DEFAULT)
     assert bmc["B"].verdict == explicit["B"].verdict == "holds"
-    assert bmc["B"].defaults == {}
+    for r in (bmc["B"], explicit["B"]):
+        assert any((s.event or "").startswith("R::set_EXT_v.") for s in r.trace), [s.event for s in r.trace]
 
 
 def test_the_readings_on_the_command_line(tmp_path: Path) -> None:
@@ -412,3 +444,33 @@ def test_the_html_report_lists_what_robotool_does_not_reproduce(tmp_path: Path) 
     config = configure(tockbmc.load(tmp_path), reading=Reading.ROBOTOOL)
     page = render_report(check(config.project, config=config, bound=10), title="m", version="0")
     assert "not reproduced: " in page and "core_clock_type" in page
+
+
+TERMINATES = """\
+interface E { event a }
+stm M {
+  uses E
+  initial i
+  state s {}
+  final f
+  transition t0 { from i to s }
+  transition t1 { from s to f trigger a }
+}
+"""
+
+
+def test_robotool_reading_checks_an_unprefixed_assertion_in_both_semantics(tmp_path: Path) -> None:
+    """Termination is a deadlock in RoboTool's untimed semantics and not in its timed one: the
+    unprefixed assertion holds in the default reading (timed only) and is violated with `--robotool`,
+    which checks it in both, as RoboTool does; timelock-freedom RoboTool generates timed only."""
+    files = {"m.rct": TERMINATES,
+             "m.assertions": "assertion D: M is deadlock-free.\nassertion T: M is timelock-free.\n"}
+    default, default_explicit = both(tmp_path, files, Reading.DEFAULT)
+    assert verdicts(default) == verdicts(default_explicit) == {"D": "holds", "T": "violated"}
+    robotool, robotool_explicit = both(tmp_path, files, Reading.ROBOTOOL, ranges=Ranges())
+    assert verdicts(robotool) == verdicts(robotool_explicit) == {"D": "violated", "T": "violated"}
+    for results in (robotool, robotool_explicit):
+        assert results["D"].extra["semantics"] == {"timed": "holds", "untimed": "violated"}
+        assert "in the untimed semantics" in (results["D"].reason or "")
+        assert results["T"].extra["semantics"] == {"timed": "violated"}
+    assert [s.event for s in robotool["D"].trace if s.event] == ["M::a.in", "M::terminate"]

@@ -31,6 +31,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.both import decide_in_both
 from tockbmc.properties.deadlock import diverges, may_diverge, refuses_everything, untimed_deadlocked
 from tockbmc.properties.determinism import locally_nondeterministic
 from tockbmc.properties.failures import FAILURES_MODELS
@@ -540,8 +541,11 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
     verdict, trace and time do not depend on what was checked before it in the same process: the
     same assertion gives the same result alone, after others, or in a worker process (`check -j`).
     """
-    with own_z3_context():
-        return _Check(a, bound, config, timeout, induction, shortest, progress).run(project)
+    def decide(half: ast.Assertion, left: float | None) -> Result:
+        with own_z3_context():
+            return _Check(half, bound, config, left, induction, shortest, progress).run(project)
+
+    return decide_in_both(a, config.reading, timeout, decide)
 
 
 @contextmanager

@@ -550,7 +550,7 @@ class TransitionSystem:
     def _visible_write(self, c: int, e: Edge) -> Copies | None:
         """The memory of the shared variable edge e writes where the write is a visible event
         (RoboTool's `set_x`), if it is."""
-        for v in [a.variable for a in e.updates] + ([e.binds] if e.binds is not None else []):
+        for v in _writes(e):
             cp = self._copies(c, v)
             if cp is not None and cp.written is not None:
                 if e.kind != "tau":
@@ -641,7 +641,7 @@ class TransitionSystem:
             if key in bound or any(id(a.variable) == key for a in e.updates) or any(id(v) == key for v in e.havoc):
                 for path, term in leaves(current[key]):
                     post[base + path] = term
-        for v in [a.variable for a in e.updates] + ([e.binds] if e.binds is not None else []):
+        for v in _writes(e):
             cp = self._copies(c, v)
             if cp is not None and cp.passes_writes and cp.stateful:
                 # the memory takes the write once it has passed the last one on, and passes it on
@@ -1067,3 +1067,7 @@ def check_encodable(network: Network) -> None:
 _DEADLINE_APPLIES = ("a function value applied in a trigger deadline's condition or bound is not encoded yet (that its "
                      "result is in its type would be a condition of each tock)")
 
+
+def _writes(e: Edge) -> list[ast.Variable]:
+    """The variables edge e writes: those it assigns and the one its input binds."""
+    return [a.variable for a in e.updates] + ([e.binds] if e.binds is not None else [])

@@ -622,6 +622,8 @@ class Evaluator:
         if isinstance(e, ast.Unary):
             [v] = operands
             assert not isinstance(v, dict)
+            if e.op == "trunc":  # towards zero, as FDR's integer reals divide
+                return z3.If(v >= 0, z3.ToReal(z3.ToInt(v)), -z3.ToReal(z3.ToInt(-v)))
             return z3.Not(v) if e.op == "not" else -v
         if isinstance(e, ast.Binary):
             return _binary(e, *operands)

@@ -33,6 +33,7 @@ from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.properties.both import decide_in_both
 from tockbmc.properties.deadlock import on_cycle
 from tockbmc.properties.failures import (
     FAILURES_MODELS,
@@ -449,6 +450,13 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                     progress: Callable[[int], None] | None = None) -> Result:
     """The verdict of one assertion by explicit search; `progress` is told each number of visible
     steps up to which every run has been explored."""
+    return decide_in_both(a, config.reading, timeout,
+                          lambda half, left: _check_one(project, half, bound, config, left, max_states, progress))
+
+
+def _check_one(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration, timeout: float | None,
+               max_states: int, progress: Callable[[int], None] | None) -> Result:
+    """`check_assertion` in the one semantics `a` is read in."""
     seen: list[tuple[Query, Setup]] = []
     decided = _check_assertion(project, a, bound, config, timeout, max_states, progress, seen)
     if not seen:

@@ -812,10 +812,9 @@ class Interpreter:
             self._reg(("shared", v.name), "const" if v.constant else "var", v, v.name, None)
         for i, inst in enumerate(self.insts):
             self._scan(i, inst.beh, [])
-        self._copy_slot: dict[int, _Copies] = {}
         self.copies = self._memory()
         self._copy_of = {(i, cp.name): cp for cp in self.copies for i in cp.readers}
-        self._copy_slot = {self._slot(i, cp.decl): cp for cp in self.copies for i in cp.readers}
+        self._copy_slot: dict[int, _Copies] = {self._slot(i, cp.decl): cp for cp in self.copies for i in cp.readers}
         for n, link in enumerate(self.links):
             if link.asynchronous:
                 link.slot = self._reg(("buf", n), "buf", None, f"buffer {n}", None)
@@ -1012,6 +1011,8 @@ class Interpreter:
                 cp = _Copies(name, decl, tuple(sorted(found)), True,
                              f"{self.ename}::set_{name}" if keeper == "provided" else None, None,
                              given_initial(decl), False, None)
+            # the rule of `encodings.composition.Copies.stateful`, written again here so that
+            # the differential checks one against the other
             stateful = (cp.start is not None or cp.passes_writes and len(cp.readers) > 1
                         or cp.external is not None and not cp.direct)
             if stateful:
@@ -1513,6 +1514,8 @@ class Interpreter:
                 return not v
             if e.op == "-":
                 return -v
+            if e.op == "trunc":  # towards zero, as FDR's integer reals divide
+                return Fraction(math.trunc(v))
             raise NotInterpretable(e.pos, f"operator {e.op}")
         if isinstance(e, ast.IfExpr):
             return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)

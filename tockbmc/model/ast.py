@@ -477,7 +477,7 @@ def omits_fields(e: Expr | None) -> bool:
 
 @dataclass(frozen=True)
 class Unary(Expr):
-    op: str  # "not" | "-"
+    op: str  # "not" | "-" | "trunc" (a real rounded towards zero: `--robotool`'s real division)
     operand: Expr
 
 

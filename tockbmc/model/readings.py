@@ -52,10 +52,11 @@ class Reading(StrEnum):
 ROBOTOOL_NOT_REPRODUCED = (
     "RoboTool's widening of core_int, core_nat and core_real by the values the model's own expressions take "
     "(calc_type_min/calc_type_max): the default ranges are used as they are",
-    "real literals with a fraction and division on reals: exact here, where FDR's reals are integers",
-    "core_clock_type = {0..10}: clocks are not bounded",
+    "real literals with a fraction (0.5): exact here, where FDR's reals are integers",
+    "RoboTool's clock count, which stops one past the largest value since(C) is compared with: exact here, which "
+    "decides every comparison alike but can differ where since(C) is used as a value; a model that compares it "
+    "with 10 or more, which FDR refuses (core_clock_type = {0..10}), is checked here",
     "the functions the project's instantiation defines compute exactly, its Plus(a, b, T) and the like included",
-    "an unprefixed assertion is checked in the timed semantics only, where RoboTool checks it in both",
     "RoboTool's memory model at its finest: an update reaches a copy between two steps of the machine (not "
     "between the read and the write of one assignment), and each variable's memory passes writes on by itself",
 )
@@ -317,11 +318,24 @@ def _robotool_op(e: ast.Expr, low: Fraction, high: Fraction) -> ast.Expr:
         first = e.operand
     else:
         assert isinstance(e, ast.Binary)
-        exact = _towards_zero(e) if e.op in ("/", "%") and t != ast.REAL else dataclasses.replace(e)
+        if e.op in ("/", "%"):
+            exact = _towards_zero(e) if t != ast.REAL else _real_towards_zero(e)
+        else:
+            exact = dataclasses.replace(e)
         first = e.left
     inside = ast.Binary(ast.BOOLEAN, pos, "and", ast.Binary(ast.BOOLEAN, pos, "<=", _literal(t, pos, low), exact),
                         ast.Binary(ast.BOOLEAN, pos, "<=", exact, _literal(t, pos, high)))
     return ast.IfExpr(t, pos, inside, exact, first)
+
+
+def _real_towards_zero(e: ast.Binary) -> ast.Expr:
+    """Real `a / b` and `a % b` as FDR computes them: its reals are integers (`core_real` is a set
+    of integers), so the quotient is rounded towards zero and the remainder is `a - b * q`."""
+    t, pos, a, b = e.type, e.pos, e.left, e.right
+    quotient = ast.Unary(t, pos, "trunc", ast.Binary(t, pos, "/", a, b))
+    if e.op == "/":
+        return quotient
+    return ast.Binary(t, pos, "-", a, ast.Binary(t, pos, "*", b, quotient))
 
 
 def _towards_zero(e: ast.Binary) -> ast.Expr:

@@ -43,6 +43,8 @@ def expr_text(e: ast.Expr, parent: int = 0) -> str:
         return f"{e.type.name}(| {fields} |)"
     if isinstance(e, ast.Unary):
         inner = expr_text(e.operand, 9)
+        if e.op == "trunc":
+            return f"trunc({expr_text(e.operand)})"
         text = f"not {inner}" if e.op == "not" else f"-{inner}"
         return f"({text})" if parent > 9 else text
     if isinstance(e, ast.Binary):
