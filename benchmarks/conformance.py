@@ -35,6 +35,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=120.0)
     parser.add_argument("--corpus", type=Path, default=CORPUS)
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (1: this process)")
+    parser.add_argument("--engine", choices=["auto", "bmc", "explicit"], default="auto",
+                        help="the portfolio (as `check`), or one engine alone")
     parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.ROBOTOOL.value,
                         help="the reading the cases are checked in (docs/semantics.md §6.6)")
     args = parser.parse_args()
@@ -49,7 +51,7 @@ def main() -> None:
             counts["case does not load"] += 1
             continue
         job = Job(configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading(args.reading)), args.bound,
-                  args.timeout)
+                  args.timeout, engine=args.engine)
         work += [(job, i) for i in range(len(job.config.project.assertions))]
         cases += [case.name] * len(job.config.project.assertions)
     runner = InProcess(work) if args.jobs == 1 else InProcesses(work, args.jobs)
@@ -68,7 +70,8 @@ def report(case: str, r: Result, counts: collections.Counter[str]) -> None:
     counts[r.verdict] += 1
     if r.verdict == "violated":  # every assertion of the suite holds in RoboTool
         counts["decided differently from RoboTool"] += 1
-    print(f"{case:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s  {(r.reason or '')[:80]}", flush=True)
+    print(f"{case:24} {r.assertion:20} {r.verdict:9} {r.seconds:7.2f}s {r.engine:8}  {(r.reason or '')[:80]}",
+          flush=True)
 
 
 if __name__ == "__main__":

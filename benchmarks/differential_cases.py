@@ -540,7 +540,7 @@ def _bmc(project: ast.Project, bound: int, ranges: Ranges, timeout: float, short
     """BMC's results, one assertion after another in a worker process, which is ended where Z3 does
     not stop at the timeout (`parallel.Job.hard_limit`: the assertion is then `unknown`)."""
     config = configure(project, ranges, reading=reading)
-    job = Job(config, bound, timeout, shortest)
+    job = Job(config, bound, timeout, shortest, engine="bmc")
     work = [(job, i) for i, a in enumerate(config.project.assertions) if name is None or a.name == name]
     decided = dict(InProcesses(work, 1))
     return [decided[n] for n in range(len(work))]

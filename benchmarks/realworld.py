@@ -114,6 +114,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per assertion")
     parser.add_argument("--budget", type=float, default=300.0, help="seconds per project")
     parser.add_argument("--corpus", type=Path, default=CORPUS)
+    parser.add_argument("--engine", choices=["auto", "bmc", "explicit"], default="auto",
+                        help="the portfolio (as `check`), or one engine alone")
     parser.add_argument("--reading", choices=[r.value for r in Reading], default=Reading.ROBOTOOL.value,
                         help="the reading the projects are checked in (docs/semantics.md §6.6)")
     parser.add_argument("--only", default="", help="check only the project lines containing this text")
@@ -149,7 +151,7 @@ def main() -> None:
             project = dataclasses.replace(project, assertions=core_assertions(project))
         if not args.load_only and project.assertions:
             job = Job(configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading(args.reading)), args.bound,
-                      args.timeout)
+                      args.timeout, engine=args.engine)
             began = time.perf_counter()
             for i in range(len(project.assertions)):
                 left = args.budget - (time.perf_counter() - began)

@@ -300,7 +300,10 @@ class _Check:
             extra.update(goal.details(u, model, outcome.depth))
         if outcome.reason:  # `shortest="events"` could not finish
             extra["shortest"] = outcome.reason
-        return self.result(goal.found, why, proof=Proof.TRACE, depth=outcome.depth, trace=trace, extra=extra)
+        # a witness after goals shown only to the bound (`terminates`: nothing stuck within it) is
+        # itself only to the bound
+        proof = Proof.BOUNDED if goal.found == Verdict.HOLDS and self.proof == Proof.BOUNDED else Proof.TRACE
+        return self.result(goal.found, why, proof=proof, depth=outcome.depth, trace=trace, extra=extra)
 
     def deterministic(self, q: Query, network: Network, consts: dict[str, ast.Expr]) -> Result:
         """`P is deterministic` (docs/semantics.md §7.10): no trace after which an event is both possible

@@ -224,10 +224,12 @@ def default_jobs() -> int:
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "itf", "sarif", "junit"]), default="text",
               show_default=True, help="A table and traces, the JSON contract, the traces in Apalache's ITF, "
                                       "SARIF 2.1.0 (code scanning), or JUnit XML (CI test reports).")
-@click.option("--engine", type=click.Choice(["bmc", "explicit"]), default="bmc", show_default=True,
-              help="Symbolic BMC in Z3, or breadth-first search over concrete configurations (finite ranges).")
+@click.option("--engine", type=click.Choice(["auto", "bmc", "explicit"]), default="auto", show_default=True,
+              help="auto: BMC (with k-induction and PDR) and, where its answer is sound for the reading, the explicit "
+                   "engine race, the first answer for every run deciding; bmc: symbolic BMC in Z3 alone; explicit: "
+                   "breadth-first search over concrete configurations alone (finite ranges).")
 @click.option("--max-states", type=click.IntRange(1), default=1_000_000, show_default=True,
-              help="With --engine explicit: configurations explored before giving up with 'unknown'.")
+              help="The explicit engine's configurations explored before it gives up with 'unknown'.")
 @click.option("--shortest", type=click.Choice(["steps", "events"]), default="steps", show_default=True,
               help="BMC's counterexamples: fewest steps (found first), or fewest events and tocks within the "
                    "bound (searches on to the bound; slower). The explicit engine's always have fewest events.")
@@ -372,7 +374,7 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
             got[n] = overran(job, selected[n], time.perf_counter() - runner.given_up[1], in_process=True)
             show((n, got[n]))
     ranges = job.config.ranges()
-    results = [got[n] if n in got else interrupted(a, ranges, job.engine) for n, a in enumerate(assertions)]
+    results = [got[n] if n in got else interrupted(a, ranges, job.reported_engine) for n, a in enumerate(assertions)]
     if table is not None:
         for n, r in enumerate(results):
             table.results.setdefault(n, r)

@@ -34,6 +34,7 @@ from typing import Any
 
 import z3
 
+from tockbmc import race
 from tockbmc.check import check_assertion
 from tockbmc.explicit.engine import DEFAULT_MAX_STATES
 from tockbmc.explicit.engine import check_assertion as check_assertion_explicit
@@ -56,7 +57,7 @@ class Job:
     bound: int
     timeout: float | None = None
     shortest: str = "steps"
-    engine: str = "bmc"  # or "explicit"
+    engine: str = "auto"  # the portfolio (`race`), or "bmc" or "explicit" alone
     max_states: int = DEFAULT_MAX_STATES
     induction: bool = True
 
@@ -67,8 +68,16 @@ class Job:
         if self.engine == "explicit":
             return check_assertion_explicit(project, a, self.bound, self.config, self.timeout, self.max_states,
                                             progress)
+        if self.engine == "auto":
+            return race.decide(project, a, self.bound, self.config, self.timeout, self.induction, self.shortest,
+                               self.max_states, progress)
         return check_assertion(project, a, self.bound, self.config, self.timeout, self.induction, self.shortest,
                                progress)
+
+    @property
+    def reported_engine(self) -> str:
+        """The engine a result no engine decided names (interrupted, overran)."""
+        return "explicit" if self.engine == "explicit" else "bmc"
 
     def hard_limit(self) -> float | None:
         """Seconds after which a worker still deciding an assertion of this job is ended: Z3 does not
@@ -139,7 +148,9 @@ class InProcess:
         return n
 
     def stop(self) -> None:
-        """Nothing to stop: Ctrl-C stops Z3 in this process (`interrupt.decide`)."""
+        """Ctrl-C stops Z3 in this process (`interrupt.decide`); the engines racing in processes of
+        their own are ended."""
+        race.stop_all()
 
 
 def _told(progress: Progress, n: int) -> Callable[[int], None]:
@@ -256,7 +267,7 @@ def overran(job: Job, index: int, seconds: float, in_process: bool = False) -> R
     a = job.config.project.assertions[index]
     what = "tockbmc gave it up" if in_process else "the worker process deciding it was ended"
     return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
-                  ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.engine,
+                  ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.reported_engine,
                   pos=str(a.pos), reading=job.config.reading,
                   reason=f"the check did not stop at its timeout ({job.timeout:g} s): {what} after {seconds:.0f} s")
 

@@ -1041,6 +1041,10 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         ends = [k for k in search.depth if terminated(k)]
         if ends:
             best = min(ends, key=lambda k: search.depth[k])
+            if not search.complete:  # the witness is whole, the claim about every configuration is not
+                return replace(result(Verdict.HOLDS, f"no configuration short of termination within {search.bound} "
+                                      f"visible steps refuses every event; witness: {name} has terminated",
+                                      search.trace(best)), proof=Proof.BOUNDED)
             return result(Verdict.HOLDS, f"no configuration short of termination refuses every event; witness: {name} "
                                    "has terminated", search.trace(best))
         if search.complete:

@@ -2,13 +2,13 @@
 
 RoboTool's untimed translation (`csp-gen/defs`, docs/robotool-evidence.md §1.1) has no `tock`
 and no clocks: `wait(e)` and a clock reset `#C` become `SKIP`, deadlines disappear, and a
-transition condition that compares a clock (`since(C) >= e`, `sinceEntry(S) > e`) becomes
-`true`.  Both engines run the rewritten model with `tock` never possible (the encoding's
-`Network.timed`, the interpreter's `timed`), so the rules are written once, here.
+transition condition that reads a clock (`since(C) >= e`, `sinceEntry(S) > e`, or a larger
+condition with such a comparison in it) becomes `true` as a whole.  Both engines run the
+rewritten model with `tock` never possible (the encoding's `Network.timed`, the interpreter's
+`timed`), so the rules are written once, here.
 
-A clock read anywhere else (inside a larger condition, under `not`, in an action, a trigger
-value or an `if`) has no evidence of what RoboTool does with it, and replacing only the clock
-comparison by `true` would be unsound under negation: such models are `Unsupported` untimed.
+A clock read anywhere else (in an action, a trigger value or an `if`) has no evidence of what
+RoboTool does with it: such models are `Unsupported` untimed.
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ from typing import TypeVar, cast
 from tockbmc.model import ast
 from tockbmc.model.errors import Unsupported
 
-COMPARISONS = ("<", "<=", ">", ">=", "==", "!=")
 Element = ast.StateMachine | ast.Controller | ast.Module
 B = TypeVar("B", bound=ast.Behaviour)
 
@@ -30,8 +29,7 @@ def _reads_clock(x: object) -> ast.Expr | None:
 
 def _refuse(e: ast.Expr, where: str) -> Unsupported:
     return Unsupported(e.pos, f"a clock read {where} in an untimed assertion: RoboTool's untimed semantics is "
-                              "evidenced only for a transition condition that is one clock comparison (it becomes "
-                              "true)")
+                              "evidenced only for a transition condition that reads a clock (it becomes true)")
 
 
 class _Untimed:
@@ -50,9 +48,7 @@ class _Untimed:
         condition = t.condition
         clock = _reads_clock(condition) if condition is not None else None
         if condition is not None and clock is not None:
-            if not (isinstance(condition, ast.Binary) and condition.op in COMPARISONS):
-                raise _refuse(clock, "inside a larger transition condition")
-            condition = None  # RoboTool: `(true)&(…)`
+            condition = None  # RoboTool: `(true)&(…)`, whatever else the condition reads
         if t.trigger is not None:
             clock = _reads_clock(t.trigger.value)
             if clock is not None:

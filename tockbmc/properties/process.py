@@ -24,7 +24,7 @@ from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.unroller import Unroller, int_value
 from tockbmc.model import ast
 from tockbmc.model.csp import CspError, Definition, canonical, pos_of
-from tockbmc.model.data import text_of
+from tockbmc.model.data import Product, Variant, text_of
 from tockbmc.model.result import TraceStep
 from tockbmc.properties.spec import (
     EVENTS,
@@ -431,9 +431,10 @@ def after_termination(sem: Semantics, mon: Monitor, tail: Proc, state: int) -> l
 
 
 def _event_text(e: tuple) -> str:
-    """An event of a specification as the model's events are named (a record as `(q=0, p=1)`)."""
+    """An event of a specification as the model's events are named (a record as `(q=0, p=1)`, a
+    tuple or vector as `(1, 2)`, as the interpreter names them: the explicit engine matches names)."""
     return ".".join("…" if x is OTHER else str(x).lower() if isinstance(x, bool) else text_of(None, x)
-                    if isinstance(x, dict) else str(x) for x in e)
+                    if isinstance(x, (dict, Product, Variant)) else str(x) for x in e)
 
 
 def field_is(term: object, value: object, named: list[object]) -> z3.BoolRef:

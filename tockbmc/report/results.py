@@ -68,7 +68,8 @@ def configuration(r: Result) -> str:
     if r.defaults:
         line += "; defaults: " + ", ".join(f"{k}={v} [{defaults.get(k, '')}]" if v else f"{k} [{defaults.get(k, '')}]"
                                             for k, v in r.defaults.items())
-    return f"reading: {r.reading}; {line}"
+    decided = f"; decided by {r.engine} ({r.proof.value})" if r.verdict in (Verdict.HOLDS, Verdict.VIOLATED) else ""
+    return f"reading: {r.reading}; {line}{decided}"
 
 
 class ResultTable:
