@@ -159,3 +159,12 @@ def test_a_specifications_record_input_is_named_as_the_models_event(tmp_path) ->
     [bmc] = check(project, bound=12, ranges=ranges, timeout=60)
     [explicit] = check_explicit(project, None, 8, ranges, {}, 60, 100_000)
     assert bmc.verdict == explicit.verdict == "holds", (bmc.reason, explicit.reason)
+
+
+def test_a_specification_elements_tuple_values_are_named_as_the_models() -> None:
+    """RoboTool's test-vector-matrix A1, `test1::S1 equals test2::S2` over `vector(int, 2)` events:
+    the element on the specification's side once named its values `Product((-1, -1))`, the model
+    `(-1, -1)`, and the explicit engine, which matches events by name, called it violated."""
+    small = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_nat": Range(Fraction(0), Fraction(1))})
+    [r] = check_explicit(load(CONFORMANCE / "robochart" / "test-vector-matrix"), ["A1"], 12, small, {}, 60, 100_000)
+    assert r.verdict == "holds", r.reason
