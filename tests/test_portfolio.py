@@ -135,10 +135,15 @@ def test_stopping_the_race_ends_both_engines() -> None:
     thread.start()
     while not race._LIVE:  # noqa: SLF001 - the pids the race started
         time.sleep(0.01)
-    race.stop_all()
-    thread.join(30)
-    assert not thread.is_alive() and not race._LIVE  # noqa: SLF001
-    assert isinstance(outcome[0], RaceError)
+    try:
+        race.stop_all()
+        thread.join(30)
+        assert not thread.is_alive() and not race._LIVE  # noqa: SLF001
+        assert isinstance(outcome[0], RaceError)
+        with pytest.raises(RaceError, match="stopped"):  # no race starts after it
+            _Race([_Engine("bmc", slow)], None, None, _unknown).run()
+    finally:
+        race.reset()
 
 
 def test_the_portfolio_decides_equals_for_every_run_with_robotool() -> None:

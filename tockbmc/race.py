@@ -3,10 +3,11 @@
 Each engine decides in a process of its own, forked from this one: nothing is pickled on the way
 in, the result is on the way out, and the engine that loses is ended at once, even inside Z3.
 The first answer that covers every run decides — a counterexample or witness trace, a proof for
-every length, an exhaustive exploration. An answer short of that (`holds` up to the bound,
-`unknown`, `unsupported`) waits for the other engine: until the timeout where one is given, else
-for as long again as the first took (at least `GRACE`); then the better of the two is reported
-(a verdict to the bound over `unknown` over `unsupported`; BMC's where they are equal). The result
+every length, an exhaustive exploration. A verdict only to the bound waits for the other engine
+for as long again as it took (at least `GRACE`, at most the timeout); `unknown`, `unsupported` or
+a failure of one engine waits for the other's answer as long as that engine takes. Then the
+better answer is reported (a verdict to the bound over `unknown` over `unsupported`; BMC's where
+they are equal). The result
 names the engine that decided (`Result.engine`); which engine wins may change from run to run,
 the verdict does not.
 
@@ -21,8 +22,10 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, fields, is_dataclass
 from fractions import Fraction
@@ -41,6 +44,8 @@ HARD_SLACK = 2.0  # seconds past twice the timeout after which both engines are 
 
 _LIVE: set[int] = set()  # pids of the engines racing now, ended by `stop_all` (Ctrl-C)
 _LIVE_LOCK = threading.Lock()
+_STOPPED = threading.Event()  # set by `stop_all`: no race starts after it
+_REALS: dict[int, tuple[ast.Project, bool]] = {}  # `uses_reals` by project (kept: the id stays its own)
 
 
 def complete(r: Result) -> bool:
@@ -49,13 +54,20 @@ def complete(r: Result) -> bool:
 
 
 def explicit_races(config: Configuration) -> bool:
-    """Whether the explicit engine's answer is sound for the configuration's reading (see above)."""
+    """Whether the explicit engine's answer is sound for the configuration's reading (see above).
+    Never with a range on one path or a parametric one: the interpreter spells paths its own way."""
     ranges = config.ranges()
+    if ranges.by_path or ranges.parametric:
+        return False
     if ranges.integral_reals:
         return True
     if not all(name in ranges.by_type for name in ("core_int", "core_nat")):
         return False
-    return not uses_reals(config.project)
+    project = config.project
+    known = _REALS.get(id(project))
+    if known is None or known[0] is not project:
+        known = _REALS[id(project)] = (project, uses_reals(project))
+    return not known[1]
 
 
 def uses_reals(project: ast.Project) -> bool:
@@ -88,6 +100,8 @@ def decide(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
 
     if not explicit_races(config):
         return bmc(progress)
+    if _STOPPED.is_set():  # Ctrl-C: the thread deciding goes on to the next assertion, whose result is dropped
+        raise RaceError("stopped")
 
     def explicit(_tell: Callable[[int], None] | None) -> Result:
         if max_states is None:
@@ -95,22 +109,28 @@ def decide(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
         return check_explicit(project, a, bound, config, timeout, max_states)
 
     def overran(seconds: float) -> Result:
+        limit = f"its timeout ({timeout:g} s)" if timeout is not None else "the other engine's answer"
         return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=bound,
                       ranges=config.ranges().describe(), seconds=seconds, proof=Proof.NONE, pos=str(a.pos),
                       reading=config.reading,
-                      reason=f"the check did not stop at its timeout ({timeout:g} s): its engines were ended after "
-                             f"{seconds:.0f} s")
+                      reason=f"no engine answered within {limit}: they were ended after {seconds:.0f} s")
 
     return _Race([_Engine("bmc", bmc), _Engine("explicit", explicit)], timeout, progress, overran).run()
 
 
 def stop_all() -> None:
-    """End every engine racing in this process (Ctrl-C)."""
+    """End every engine racing in this process, and start no other (Ctrl-C)."""
     with _LIVE_LOCK:
+        _STOPPED.set()
         pids = list(_LIVE)
     for pid in pids:
         with contextlib.suppress(ProcessLookupError):
             os.kill(pid, signal.SIGKILL)
+
+
+def reset() -> None:
+    """Let races start again after `stop_all` (a long-lived process that goes on after Ctrl-C)."""
+    _STOPPED.clear()
 
 
 @dataclass
@@ -125,11 +145,19 @@ class _Engine:
     def start(self, tells: bool) -> None:
         """Fork: the child decides and sends ("depth", k)… then ("result", r) or ("error", text)."""
         receive, send = Pipe(duplex=False)
-        pid = os.fork()
+        parent = os.getpid()
+        with _LIVE_LOCK:  # registered before `stop_all` can look; none started once it has
+            if _STOPPED.is_set():
+                receive.close()
+                send.close()
+                raise RaceError("stopped")
+            pid = os.fork()
+            if pid != 0:
+                _LIVE.add(pid)
         if pid == 0:  # the child: decide, answer, and end without running the parent's exit handlers
             try:
                 receive.close()
-                _detach()
+                _detach(parent)
 
                 def tell(depth: int) -> None:
                     send.send(("depth", depth))
@@ -142,8 +170,6 @@ class _Engine:
                 os._exit(0)
         send.close()
         self.pid, self.conn = pid, receive
-        with _LIVE_LOCK:
-            _LIVE.add(pid)
 
     def receive(self, progress: Callable[[int], None] | None) -> None:
         """Take what the child has sent; its end (a result, an error, or none: it died) closes it."""
@@ -184,16 +210,20 @@ class _Engine:
             self.pid = None
 
 
-def _detach() -> None:
+def _detach(parent: int) -> None:
     """In an engine's process: Ctrl-C is the parent's to handle, the terminal's streams are let go
-    (whoever reads the parent's output must see it end when the parent does), and the process ends
-    when its parent does, however that ends."""
+    (whoever reads the parent's output must see it end when the parent does; fresh Python streams,
+    as another thread of the parent may have held their locks when it forked, and no warnings), and
+    the process ends when its parent does, however that ends."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     devnull = os.open(os.devnull, os.O_RDWR)
     for fd in (0, 1, 2):
         os.dup2(devnull, fd)
-    parent = os.getppid()
+    sys.stdout = sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - for the life of the process
+    warnings.simplefilter("ignore")
+    if os.getppid() != parent:  # the parent ended before this process looked
+        os._exit(0)
 
     def orphaned() -> None:
         while os.getppid() == parent:
@@ -226,8 +256,9 @@ class _Race:
                 if decided:
                     return decided[0]
                 now = time.monotonic()
-                if first_done is None and any(not e.running for e in self.engines):
-                    first_done = now
+                if first_done is None and any(e.result is not None and e.result.verdict in
+                                              (Verdict.HOLDS, Verdict.VIOLATED) for e in self.engines):
+                    first_done = now  # a verdict to the bound: the other engine has a grace to better it
                 if self._past(start, first_done, now):
                     break
         finally:
@@ -236,12 +267,11 @@ class _Race:
         return self._best(time.monotonic() - start)
 
     def _past(self, start: float, first_done: float | None, now: float) -> bool:
-        """Whether the engines still deciding are waited for no longer."""
+        """Whether the engines still deciding are waited for no longer: past the hard limit, or
+        past the grace after a verdict to the bound (each engine keeps to the timeout itself)."""
         if self.timeout is not None and now - start > 2 * self.timeout + HARD_SLACK:
             return True
-        if first_done is None or self.timeout is not None:
-            return False  # with a timeout, each engine keeps to it
-        return now - first_done > max(GRACE, first_done - start)
+        return first_done is not None and now - first_done > max(GRACE, first_done - start)
 
     def _best(self, seconds: float) -> Result:
         """The better of the answers short of complete ones (BMC's where they are equal)."""
