@@ -16,6 +16,7 @@ from conftest import write_files
 import tockbmc
 from tockbmc.check import check
 from tockbmc.encodings.values import Range, Ranges
+from tockbmc.explicit.engine import check_explicit
 from tockbmc.model.config import configure
 from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result
@@ -957,6 +958,33 @@ def test_rule13_copies_are_updated_late(tmp_path) -> None:
     rs = run(tmp_path, late, text, bound=20)
     expect(rs["A35"], "violated", ["Ctrl::res.out.0"])
     expect(rs["A03"], "violated", ["Ctrl::res.out.5"])
+
+
+def test_rule13_an_environment_write_read_by_a_deadline_is_chosen_when_read(tmp_path) -> None:
+    """The environment's write `M::set_EXT_s` carries a value the explicit engine chooses only when
+    a step reads it; here the trigger deadline's condition `s != 1`, re-armed after the write. (It
+    once stopped the explicit engine with an internal error: the value was in neither the
+    configuration nor an input it split.)"""
+    rct = """
+interface Shared { var s : int }
+stm M {
+  event c
+  requires Shared
+  initial i
+  state S0 { }
+  state S1 { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S1 trigger c <{1} condition s != 1 }
+}
+"""
+    text = "assertion T: M is timelock-free.\nassertion R: S1 is reachable in M.\n"
+    bmc = run(tmp_path, rct, text, ranges=MINUS1_1)
+    config = configure(tockbmc.load(tmp_path), MINUS1_1)
+    explicit = {r.assertion: r for r in check_explicit(config.project, None, 14, MINUS1_1, {}, 60, 100_000,
+                                                       config=config)}
+    for rs in (bmc, explicit):
+        expect(rs["T"], "violated")
+        expect(rs["R"], "holds")
 
 
 # ---------------------------------------------------------------------------- rule 14

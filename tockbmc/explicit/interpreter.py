@@ -2478,13 +2478,18 @@ class Interpreter:
             if cp.external is None or held is not None:
                 continue
             paths = (cp.external, *(f"{self.insts[r].name}::{cp.name}" for r in cp.readers), f"{cp.decl.owner}::{cp.name}")
-            for v in self._inputs_for(cp.external, cp.decl.type, paths, inputs, (cp.external,)):
-                v = _coerce(cp.decl.type, v)
-                if not _fits(cp.decl.type, v):
-                    continue
-                extra = {self._slot(cp.readers[0], cp.decl): v} if cp.direct else {cp.mem: (v, 0)}
-                steps.append(Step("event", Event(None, (cp.external,), (v,)), self._config(config, [], extra)))  # type: ignore[arg-type]
+            steps += self._each(self._inputs_for(cp.external, cp.decl.type, paths, inputs, (cp.external,)),
+                                partial(self._written, config, cp))
         return steps
+
+    def _written(self, config: Config, cp: _Copies, v: object) -> list[Step]:
+        """The environment's write of `v` into a variable it can write (`C::set_EXT_x.v`): none
+        where `v` does not fit the variable's type."""
+        v = _coerce(cp.decl.type, v)
+        if not _fits(cp.decl.type, v):
+            return []
+        extra = {self._slot(cp.readers[0], cp.decl): v} if cp.direct else {cp.mem: (v, 0)}
+        return [Step("event", Event(None, (cp.external,), (v,)), self._config(config, [], extra))]  # type: ignore[arg-type]
 
     def _terminations(self, config: Config, moves: list[list]) -> list[Step]:
         """The element's `terminate`: once every machine is at a final state, all of them at once
