@@ -8,12 +8,14 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from conftest import SHARED
+from conftest import COUNTER, SHARED, write_files
 
 import tockbmc
 from tockbmc.check import check
 from tockbmc.cli import cli
 from tockbmc.encodings.values import Range, Ranges
+from tockbmc.explicit.engine import check_explicit
+from tockbmc.model.result import NO_STEPS
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "intelliwelder"
 NOMINAL = Ranges({"core_int": Range(Fraction(0), Fraction(2)), "core_real": Range(Fraction(-1), Fraction(1))})
@@ -170,3 +172,20 @@ def test_a_counterexample_in_a_module_starts_from_the_values_bmc_chose() -> None
     config = configure(project, default_ranges=ROBOTOOL_RANGES, reading=Reading.OPEN)
     [r] = check(config.project, ["Foraging_timelock_free"], bound=40, config=config, timeout=60)
     assert r.verdict == "violated" and r.extra.get("replayed") == "yes", r.reason
+
+
+def test_a_bound_of_zero_steps_claims_nothing(tmp_path: Path) -> None:
+    """`-k 0` searches no step: a `holds` within it is `unknown` with the reason, in both engines,
+    while a proof for every length still stands (and `-k 1` searches one step)."""
+    write_files(tmp_path, {"c.rct": COUNTER, "c.assertions": "assertion N: Counter does not terminate.\n"
+                                                           "assertion D: Counter is divergence-free.\n"})
+    project = tockbmc.load(tmp_path)
+    ranges = Ranges({"core_int": Range(Fraction(-1), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
+    for results in (check(project, bound=0, timeout=60, induction=False),
+                    check_explicit(project, None, 0, ranges, {}, 60, 100_000)):
+        by = {r.assertion: r for r in results}
+        assert by["N"].verdict == "unknown" and by["N"].reason == NO_STEPS, by["N"].reason
+    proved = {r.assertion: r for r in check(project, bound=0, timeout=60)}
+    assert proved["D"].verdict == "holds" and proved["D"].proof.every_length
+    [n1] = check(project, ["N"], bound=1, timeout=60, induction=False)
+    assert n1.verdict == "holds" and n1.proof == "bounded"

@@ -90,7 +90,8 @@ def test_a_usage_error_found_by_worker_processes_prints_no_traceback(tmp_path: P
 
 
 def test_symbols_a_narrow_encoding_lacks_are_spelt_in_ascii(tmp_path: Path) -> None:
-    """With a Latin-1 terminal, `τ` is `tau`, `✓` is `tick`, `→` is `->`, in traces and diagnostics."""
+    """With a Latin-1 terminal, `τ` is `tau`, `✓` is `tick`, `→` is `->`, `⇔` is `<=>`, `≤` is `<=`, in
+    traces, `explore`'s answers and diagnostics."""
     def latin() -> io.TextIOWrapper:
         return io.TextIOWrapper(io.BytesIO(), encoding="latin-1")
 
@@ -101,6 +102,9 @@ def test_symbols_a_narrow_encoding_lacks_are_spelt_in_ascii(tmp_path: Path) -> N
     out, err = latin(), latin()
     assert run_main(SMALL_CHECK, out, err) == 10, text(err)
     assert "    1  tau  EXAX: wait_for_move" in text(out) and "\n  -> EXAX has terminated" in text(out)
+    out, err = latin(), latin()
+    assert run_main(["explore", str(EXAMPLE), "-a", "A1"], out, err) == 0, text(err)
+    assert "violated <=> core_int.low <= -1" in text(out), text(out)
     out, err = latin(), latin()
     assert run_main(["show", write_files(tmp_path, NARROW_MODEL)], out, err) == 3, text(err)
     assert "m.rct:4:41: error: unknown name 'x'\n    transition t0 { from i to s condition x } // début -> fin\n" \
@@ -211,3 +215,23 @@ def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) ->
     assert results["summary"] == {"holds": 1, "violated": 0, "unknown": 0, "unsupported": 0, "interrupted": 2,
                                   "total": 3}
     assert simulate_err.endswith("tockbmc: interrupted\n") and "Aborted" not in simulate_err
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full here")
+def test_a_report_that_cannot_be_written_is_one_line_after_the_verdicts() -> None:
+    """`--report /dev/full`: the verdicts are printed, then one line says the report was not
+    written, and the exit status is 4 (not 2 or 3, which mean bad usage and a bad model)."""
+    result = run_cli(["check", EXAMPLE, "-a", "A7", "-j", "1", "--report", "/dev/full"])
+    assert result.crash is None and result.exit_code == 4, result.output
+    assert "A7: holds" in result.stdout
+    assert result.stderr.strip().splitlines()[-1] == ("tockbmc: the report /dev/full was not written: "
+                                                      "No space left on device")
+
+
+@pytest.mark.skipif(not Path("/proc/self").exists(), reason="no /proc here")
+def test_a_tree_whose_folders_vanish_while_read_is_no_internal_error() -> None:
+    """`/proc` has folders that vanish while it is walked (processes ending): they are passed over,
+    and the answer is the model error of a tree with no model in it."""
+    result = run_cli(["show", "/proc"])
+    assert result.crash is None and result.exit_code == 3, result.output
+    assert "no .rct or .assertions files found" in result.stderr

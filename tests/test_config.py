@@ -248,6 +248,9 @@ def test_param_makes_a_constant_a_parameter(tmp_path: Path) -> None:
         configure(p, settings={"M::p": "1"}, params=["M::p"])
     with pytest.raises(ConfigError, match="M::limit has a value in the model"):
         configure(p, params=["M::limit"])
+    twice = configure(p, {"core_int": _range(-1, 1)}, params=["M::p", "M::p"])  # taken once
+    [again] = check(p, bound=10, config=twice)
+    assert again.verdict == "violated" and again.constants["M::p"] == "parameter (-1..1)"
 
 
 def _range(low: int, high: int) -> tockbmc.model.ranges.Range:

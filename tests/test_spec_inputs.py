@@ -121,6 +121,30 @@ def test_an_unbounded_input_the_specification_reads_is_unsupported(tmp_path: Pat
     assert "does not track" in (e.reason or "") and "m.assertions:3" in (e.reason or ""), e.reason
 
 
+def test_a_wait_over_a_value_from_an_unbounded_channel_is_unsupported(tmp_path: Path) -> None:
+    """`M::time.in?t -> WAIT(t)` with `time` an unbounded nat: each value is another process, which
+    a specification's listing cannot follow; `unsupported` with the reason (it was an internal error:
+    a comparison of the value standing for the rest with a number). With a range, it is decided."""
+    rct = """
+stm M {
+  event time : nat
+  var x : nat
+  initial i
+  state s {}
+  state w {}
+  transition t0 { from i to s }
+  transition t1 { from s to w trigger time?x }
+}
+"""
+    text = "timed csp Spec csp-begin\nSpec = M::time.in?t -> WAIT(t) ; STOP\ncsp-end\ntimed assertion A: Spec equals M.\n"
+    write_files(tmp_path, {"m.rct": rct, "m.assertions": text})
+    project = tockbmc.load(tmp_path)
+    [a] = check(project, ["A"], bound=12, config=configure(project, Ranges()), timeout=60)
+    assert a.verdict == "unsupported" and "WAIT over a value" in (a.reason or ""), a.reason
+    [ranged] = check(project, ["A"], bound=12, config=configure(project, NAT), timeout=60)
+    assert ranged.verdict != "unsupported", ranged.reason
+
+
 def test_robotool_read_channels_are_unsupported(tmp_path: Path) -> None:
     """RoboTool's reads of a variable (`M::get_x`) are hidden and are no events here, so a
     specification naming one is unsupported; its writes (`set_x`) are events (docs/semantics.md §5.5)."""

@@ -30,7 +30,7 @@ from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
-from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.model.result import Proof, Result, TraceStep, Verdict, within_no_steps
 from tockbmc.properties.both import decide_in_both
 from tockbmc.properties.deadlock import diverges, may_diverge, refuses_everything, untimed_deadlocked
 from tockbmc.properties.determinism import locally_nondeterministic
@@ -548,7 +548,7 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
         with own_z3_context():
             return _Check(half, bound, config, left, induction, shortest, progress).run(project)
 
-    return decide_in_both(a, config.reading, timeout, decide)
+    return within_no_steps(decide_in_both(a, config.reading, timeout, decide))
 
 
 @contextmanager

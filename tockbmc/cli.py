@@ -44,6 +44,7 @@ from tockbmc.report.structure import project_data, project_tree
 EXIT_INTERRUPTED = 130
 EXIT_MODEL_ERROR = 3
 EXIT_INTERNAL_ERROR = 1
+EXIT_REPORT_UNWRITTEN = 4  # the verdicts were printed; the HTML report could not be written
 
 T = TypeVar("T")
 
@@ -255,8 +256,9 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     """Check the assertions of the model in PATHS.
 
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
-    unsupported, 2 usage error, 3 model error, 1 internal error, 130 interrupted (Ctrl-C: the
-    verdicts decided so far are printed).
+    unsupported, 2 usage error, 3 model error, 4 the --report file could not be written (the
+    verdicts were printed), 1 internal error, 130 interrupted (Ctrl-C: the verdicts decided so far
+    are printed).
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
@@ -281,9 +283,6 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
     results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,
                                dask_address)
-    if report_path is not None:
-        from tockbmc.report.html import write_report
-        write_report(report_path, results, title=" ".join(paths), version=__version__)
     with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
         if fmt == "json":
             status = "interrupted" if decided.interrupted else "checked"
@@ -296,12 +295,26 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             click.echo(junit.report(results))
         else:
             print_details(results, _stdout_console())
+    written = report_path is None or _report_written(report_path, results, " ".join(paths))
     if decided.interrupted:
         _exit_interrupted(decided.worker_done)
-    code = exit_code(r.verdict for r in results)
+    code = exit_code(r.verdict for r in results) if written else EXIT_REPORT_UNWRITTEN
     if not decided.worker_done:  # given up at its hard limit, the deciding thread is still inside Z3
         _exit_now(code)
     sys.exit(code)
+
+
+def _report_written(path: str, results: list[Result], title: str) -> bool:
+    """Write the HTML report, after the verdicts are printed; where it cannot be written (a full disk,
+    a directory gone), say so in one line and return False."""
+    from tockbmc.report.html import write_report
+
+    try:
+        write_report(path, results, title=title, version=__version__)
+    except OSError as exc:
+        click.echo(f"tockbmc: the report {path} was not written: {exc.strerror or exc}", err=True)
+        return False
+    return True
 
 
 def _stdout_console() -> PipeConsole:

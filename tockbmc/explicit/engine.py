@@ -32,7 +32,7 @@ from tockbmc.model.data import Variant
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
 from tockbmc.model.ranges import Ranges
-from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.model.result import Proof, Result, TraceStep, Verdict, within_no_steps
 from tockbmc.properties.both import decide_in_both
 from tockbmc.properties.deadlock import on_cycle
 from tockbmc.properties.failures import (
@@ -450,8 +450,9 @@ def check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config: 
                     progress: Callable[[int], None] | None = None) -> Result:
     """The verdict of one assertion by explicit search; `progress` is told each number of visible
     steps up to which every run has been explored."""
-    return decide_in_both(a, config.reading, timeout,
-                          lambda half, left: _check_one(project, half, bound, config, left, max_states, progress))
+    return within_no_steps(decide_in_both(
+        a, config.reading, timeout, lambda half, left: _check_one(project, half, bound, config, left, max_states,
+                                                                  progress)))
 
 
 def _check_one(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration, timeout: float | None,

@@ -697,7 +697,7 @@ class Configuration:
                     raise ConfigError(f"{named_by[key]} and {name} both name constant {key}")
                 named_by[key] = name
                 self._flags[key] = _ConstEntry(value, FLAG_SET)
-        for name in params:
+        for name in dict.fromkeys(params):  # a name given twice is made a parameter once
             if self.names.instance_chain(name) is not None:
                 found = self.names.constant(name, "--param")
                 raise ConfigError(f"{name} names one instance's constant, and --param makes a declaration's constant "
@@ -705,6 +705,8 @@ class Configuration:
                                   f"({', '.join(declaration_key(v) for v in found)})", "--param")
             for v in self.names.constant(name, "--param"):
                 key = declaration_key(v)
+                if key in self._flags and self._flags[key].source == FLAG_PARAM:
+                    continue  # the same constant by another name
                 if key in self._flags:
                     raise ConfigError(f"{name} is given a value with --set and made a parameter with --param",
                                       "--param")

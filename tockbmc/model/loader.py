@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from lark import Tree
@@ -23,7 +24,7 @@ def project_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     found: list[Path] = []
     for p in map(Path, paths):
         if p.is_dir():
-            found += sorted(f for f in p.rglob("*") if f.suffix in SUFFIXES and f.is_file())
+            found += sorted(_model_files(p))
         else:
             found.append(p)
     # One file named two ways ('d/a.rct', 'd/../d/a.rct') is loaded once.
@@ -31,6 +32,17 @@ def project_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     for f in found:
         unique.setdefault(f.resolve(), f)
     return list(unique.values())
+
+
+def _model_files(root: Path) -> Iterator[Path]:
+    """The model files below a directory. A folder that cannot be read, or that vanishes while it
+    is walked (`/proc`'s), is passed over: its files are not the model's."""
+    for folder, _dirs, names in os.walk(root, onerror=lambda _error: None):
+        for name in names:
+            f = Path(folder, name)
+            with contextlib.suppress(OSError):
+                if f.suffix in SUFFIXES and f.is_file():
+                    yield f
 
 
 def load(*paths: str | os.PathLike[str]) -> Project:

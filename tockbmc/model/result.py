@@ -9,7 +9,7 @@ runs of every length (and by what argument).
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from typing import Any
 
@@ -126,3 +126,15 @@ class Result:
             **({"other_trace": [s.to_json() for s in self.other_trace]} if self.other_trace else {}),
             **self.extra,
         }
+
+
+NO_STEPS = ("a bound of 0 steps searches no step of any run, so a holds within it claims nothing: give a bound "
+            "of 1 or more (-k/--bound)")
+
+
+def within_no_steps(r: Result) -> Result:
+    """`r`, but `unknown` where it holds only within a bound of 0 steps (a proof for every length,
+    a trace or an exhaustive search still stands)."""
+    if r.verdict == Verdict.HOLDS and r.proof == Proof.BOUNDED and r.bound == 0:
+        return replace(r, verdict=Verdict.UNKNOWN, proof=Proof.NONE, reason=NO_STEPS)
+    return r

@@ -697,28 +697,39 @@ def _chaos(timed: bool, a: EventSet) -> Proc:
     return Run(a, timed)
 
 
+def _tocks(name: str, d: object) -> int:
+    """A number of tocks a timed operator counts: a value the environment chose from a range the
+    specification does not list (`time.in?t -> WAIT(t)` on an unbounded channel) is not followed."""
+    if d is OTHER:
+        raise Unsupported(None, f"{name} over a value the specification received from an unbounded channel "
+                                "(every value of it would be a different process): give the channel a range "
+                                "(--range), so that its values are listed")
+    assert isinstance(d, int)
+    return d
+
+
 def _wait(timed: bool, n: int) -> Proc:
-    return Wait(n)
+    return Wait(_tocks("WAIT", n))
 
 
 def _edeadline(timed: bool, e: Event, d: int) -> Proc:
-    return Deadline(EventSet("exact", (e,)) if isinstance(e, tuple) else e, d, 0, True)
+    return Deadline(EventSet("exact", (e,)) if isinstance(e, tuple) else e, _tocks("EDeadline", d), 0, True)
 
 
 def _adeadline(timed: bool, a: EventSet, d: int) -> Proc:
-    return Deadline(a, d, 0, False)
+    return Deadline(a, _tocks("ADeadline", d), 0, False)
 
 
 def _endby(timed: bool, p: Proc, d: int) -> Proc:
-    return EndBy(p, d, 0)
+    return EndBy(p, _tocks("EndBy", d), 0)
 
 
 def _startby(timed: bool, p: Proc, d: int) -> Proc:
     """tick-tock-CSP's `StartBy(P, d) = P [] (WAIT(d) ; USTOP)` in a Timed section (UoY-RoboStar
     tick-tock-CSP, fdr/tick-tock.csp): P, with at most d tocks before its first event."""
-    if not isinstance(p, Proc) or not isinstance(d, int):
+    if not isinstance(p, Proc) or not (isinstance(d, int) or d is OTHER):
         raise TypeError("StartBy takes a process and a number")
-    return Binary("external", p, Binary("seq", Wait(d), Stop(False), None, True), None, True)
+    return Binary("external", p, Binary("seq", Wait(_tocks("StartBy", d)), Stop(False), None, True), None, True)
 
 
 def _set_op(kind: str) -> Callable[..., EventSet | frozenset]:

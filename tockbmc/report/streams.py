@@ -23,7 +23,9 @@ ASCII_ERRORS = "tockbmc-ascii"
 # What a character the stream cannot encode becomes; any other becomes "?" (one column, so that
 # a caret under a source line stays under the right character).
 SPELLINGS = {"τ": "tau", "✓": "tick", "→": "->", "…": "...", "–": "-", "—": "-", "§": "S", "δ": "delta",
-             "├": "|", "└": "`", "│": "|", "─": "-", "┃": "|", "━": "-"}
+             "├": "|", "└": "`", "│": "|", "─": "-", "┃": "|", "━": "-", "⇔": "<=>", "⇒": "=>", "≤": "<=",
+             "≥": ">=", "≠": "!=", "∧": "/\\", "∨": "\\/", "⟨": "<", "⟩": ">", "∥": "||", "∪": "union",
+             "·": ".", "⩤": "<|"}
 
 
 def _spell(error: UnicodeError) -> tuple[str, int]:
