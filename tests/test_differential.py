@@ -154,7 +154,10 @@ def _agree(rct: str, assertions: str, ranges: object = None) -> None:
 # 100735: a time-only deadlock that BMC shows after a tock the explicit engine need not show;
 # seed8 (with every form and data, its one tick-tock assertion kept): Z3's model defined the
 # monitor's state by a quantified formula, and reading it crashed the report; 9101 (data): BMC let
-# `n = <x> ^ n` store -1 in a Seq(nat), where the explicit engine blocks the step (a deadlock).
+# `n = <x> ^ n` store -1 in a Seq(nat), where the explicit engine blocks the step (a deadlock);
+# environment_write_passed_on_to_three_copies: the explicit engine's lazy search copied a value not
+# chosen yet from the controller's memory into each machine's copy, and could not make its run
+# concrete (an internal error).
 FORMER = Path(__file__).parent / "differential_cases"
 
 

@@ -2470,6 +2470,7 @@ class Interpreter:
             held = config.store[cp.mem] if cp.mem is not None else None
             if held is not None:
                 v, j = held
+                self._concrete(v)  # passed on, it is copied: an Unknown is chosen first (lazy mode)
                 reader = cp.readers[j]
                 after = (v, j + 1) if j + 1 < len(cp.readers) else None
                 steps.append(Step("internal", None,
