@@ -207,7 +207,7 @@ def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) ->
     rows = [line.split("│")[1:3] for line in text.splitlines() if line.startswith("│")]
     assert [[c.strip() for c in row] for row in rows] == [["Q1", "holds"], ["H", "interrupted"],
                                                           ["Q2", "interrupted"]]
-    assert "H: interrupted   assertion H: Hard terminates.\n  interrupted (Ctrl-C) before a verdict" in text
+    assert "H: interrupted   assertion H: Hard terminates.\n  interrupted (Ctrl-C or SIGTERM) before a verdict" in text
     assert text_err == data_err == "tockbmc: interrupted\n"
     results = json.loads(data)
     assert [(r["assertion"], r["verdict"]) for r in results["results"]] == [

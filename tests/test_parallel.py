@@ -280,3 +280,59 @@ def test_a_result_that_comes_within_the_grace_is_kept(tmp_path: Path) -> None:
     decided = decide(runner, grace=3.0, overdue=runner.overdue)
     assert decided.overran == 0 and decided.worker_done
     assert [(n, r.verdict) for n, r in decided.results] == [(0, "violated")]
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the process tree from /proc")
+def test_sigterm_to_the_main_process_prints_what_was_decided_and_ends_every_worker(tmp_path: Path) -> None:
+    """SIGTERM (a CI runner's, `timeout`'s) to tockbmc alone, not its group, while H is decided:
+    exit 143, Q1's and Q2's verdicts printed and H interrupted, one line on stderr, and no worker
+    process, fork server or Spacer child left running."""
+    write_files(tmp_path, SLOW)
+    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout is not None
+        lines = []
+        while not any(line.startswith("│ Q1") for line in lines):
+            lines.append(p.stdout.readline())
+            assert lines[-1], "the output ended before Q1's row"
+        below = descendants(p.pid)
+        assert below, "no worker process"
+        p.send_signal(signal.SIGTERM)
+        rest, err = p.communicate(timeout=30)
+    finally:
+        p.kill()
+        p.wait()
+    assert p.returncode == 143, err
+    rows = [[c.strip() for c in line.split("│")[1:3]] for line in ("".join(lines) + rest).splitlines()
+            if line.startswith("│")]
+    assert rows[0] == ["Q1", "holds"] and ["H", "interrupted"] in rows, rows
+    assert err == "tockbmc: terminated (SIGTERM)\n"
+    deadline = time.monotonic() + 30  # the event waited for: every process below it gone
+    while [pid for pid in below if running(pid)] and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert [pid for pid in below if running(pid)] == []
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the process tree from /proc")
+def test_workers_end_when_the_main_process_is_killed_outright(tmp_path: Path) -> None:
+    """SIGKILL (or the out-of-memory killer) gives tockbmc no chance to end its workers: they notice
+    that it is gone and end themselves, with their Spacer children, and the fork server with them."""
+    write_files(tmp_path, SLOW)
+    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
+                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        assert p.stdout is not None
+        while not p.stdout.readline().startswith("│ Q1"):
+            assert p.poll() is None, "tockbmc ended before Q1's row"
+        below = descendants(p.pid)
+        assert below, "no worker process"
+        p.kill()
+        p.wait()
+    finally:
+        p.kill()
+        p.wait()
+    deadline = time.monotonic() + 30  # the event waited for: every process below it gone
+    while [pid for pid in below if running(pid)] and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert [pid for pid in below if running(pid)] == []

@@ -9,6 +9,7 @@ import io
 import json
 import math
 import os
+import signal
 import stat
 import sys
 import time
@@ -23,7 +24,7 @@ from rich.text import Text
 from tockbmc import __version__
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.explicit.interpreter import Unbounded
-from tockbmc.interrupt import Decided, decide, interrupted
+from tockbmc.interrupt import Decided, Terminated, decide, interrupted, terminate_as_interrupt
 from tockbmc.model import ModelError, Project, ast, load
 from tockbmc.model.config import ConfigError, Configuration, configure, parse_number
 from tockbmc.model.core import core_assertions
@@ -258,7 +259,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
     Exit status: 0 all hold, 10 some violated, 20 none violated but some unknown or
     unsupported, 2 usage error, 3 model error, 4 the --report file could not be written (the
     verdicts were printed), 1 internal error, 130 interrupted (Ctrl-C: the verdicts decided so far
-    are printed).
+    are printed), 143 terminated (SIGTERM: as Ctrl-C).
     """
     _ranges(range_specs)  # malformed options are usage errors, found before any loading
     _settings(set_specs)
@@ -297,7 +298,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
             print_details(results, _stdout_console())
     written = report_path is None or _report_written(report_path, results, " ".join(paths))
     if decided.interrupted:
-        _exit_interrupted(decided.worker_done)
+        _exit_interrupted(decided.worker_done, decided.signal)
     code = exit_code(r.verdict for r in results) if written else EXIT_REPORT_UNWRITTEN
     if not decided.worker_done:  # given up at its hard limit, the deciding thread is still inside Z3
         _exit_now(code)
@@ -493,8 +494,8 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
             return command()
         except SystemExit:
             raise
-        except KeyboardInterrupt:
-            _exit_interrupted()
+        except KeyboardInterrupt as exc:
+            _exit_interrupted(signum=signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
         except RecursionError:
             click.echo("tockbmc: internal error: input nested too deeply", err=True)
             sys.exit(EXIT_INTERNAL_ERROR)
@@ -505,13 +506,15 @@ def _guarded(command: Callable[[], T]) -> Callable[[], T]:
     return run
 
 
-def _exit_interrupted(clean: bool = True) -> NoReturn:
-    """Exit as interrupted (128 + SIGINT), at once if a worker thread may still be inside Z3."""
+def _exit_interrupted(clean: bool = True, signum: int = signal.SIGINT) -> NoReturn:
+    """Exit as interrupted (128 + the signal: 130 for Ctrl-C, 143 for SIGTERM), at once if a worker
+    thread may still be inside Z3."""
     with reader_may_leave(sys.stderr):
-        click.echo("tockbmc: interrupted", err=True)
+        click.echo("tockbmc: interrupted" if signum == signal.SIGINT else "tockbmc: terminated (SIGTERM)", err=True)
+    code = 128 + signum
     if clean:
-        sys.exit(EXIT_INTERRUPTED)
-    _exit_now(EXIT_INTERRUPTED)
+        sys.exit(code)
+    _exit_now(code)
 
 
 def _exit_now(code: int) -> NoReturn:
@@ -538,6 +541,7 @@ def _run() -> None:
 
 def main() -> None:
     """Console entry point."""
+    terminate_as_interrupt()
     for name in usable_streams():
         if name == "stdout":
             click.echo("tockbmc: standard output is closed: nothing is printed there", err=True)

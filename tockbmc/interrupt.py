@@ -24,6 +24,20 @@ from tockbmc.model.result import Proof, Result, Verdict
 T = TypeVar("T")
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (a CI runner's, `timeout`'s): handled as Ctrl-C is, and told apart by its exit status."""
+
+
+def terminate_as_interrupt() -> None:
+    """Make SIGTERM raise `Terminated` in the main thread, as SIGINT raises KeyboardInterrupt, so
+    that the verdicts decided are printed and the worker processes ended (only from the main thread)."""
+    def raise_terminated(_signum: int, _frame: object) -> None:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a second SIGTERM ends tockbmc at once
+        raise Terminated
+
+    signal.signal(signal.SIGTERM, raise_terminated)
+
+
 @dataclass(frozen=True)
 class Decided(Generic[T]):
     """The items drawn, in order, and whether Ctrl-C stopped the drawing (`worker_done`: whether the
@@ -33,6 +47,7 @@ class Decided(Generic[T]):
     interrupted: bool = False
     worker_done: bool = True
     overran: int | None = None  # the item `overdue` named: its worker thread was given up
+    signal: int = signal.SIGINT  # what interrupted it: SIGINT (Ctrl-C) or SIGTERM
 
 
 def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] | None = None,
@@ -86,14 +101,15 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
                 hand_over(len(decided))
                 return Decided(decided, worker_done=finished, overran=late)
         hand_over(len(drawn))
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         decided = list(drawn)  # before Z3 is stopped: the query it stops would read "unknown"
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         z3.main_ctx().interrupt()
         if stop is not None:
             stop()
         hand_over(len(decided))
-        return Decided(decided, interrupted=True, worker_done=done.wait(grace))
+        received = signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT
+        return Decided(decided, interrupted=True, worker_done=done.wait(grace), signal=received)
     if failure:
         raise failure[0]
     return Decided(drawn)
@@ -114,7 +130,7 @@ def _ctrl_c_held() -> Iterator[None]:
 
 
 def interrupted(a: ast.Assertion, ranges: Ranges, engine: str) -> Result:
-    """The result of an assertion that Ctrl-C stopped before its verdict."""
+    """The result of an assertion that Ctrl-C (or SIGTERM) stopped before its verdict."""
     return Result(assertion=a.name, text=a.text, verdict=Verdict.INTERRUPTED, bound=None, ranges=ranges.describe(),
-                  seconds=0.0, reason="interrupted (Ctrl-C) before a verdict", proof=Proof.NONE, engine=engine,
-                  pos=str(a.pos))
+                  seconds=0.0, reason="interrupted (Ctrl-C or SIGTERM) before a verdict", proof=Proof.NONE,
+                  engine=engine, pos=str(a.pos))

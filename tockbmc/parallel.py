@@ -21,6 +21,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import multiprocessing
+import os
 import pickle
 import signal
 import threading
@@ -194,14 +195,27 @@ class _Relay:
 _SINK: list[Any] = []  # in a worker process: the progress queue (or None), set once when it starts
 
 
-def _start_worker(sink: Any) -> None:
+def _start_worker(sink: Any, owner: int) -> None:
     """A worker process's start: Ctrl-C at the terminal is its parent's to handle (the parent ends the
     workers), so it is ignored here, and in Spacer's child processes, which inherit this; Z3 would
     otherwise catch it while it solves and end the query as `unknown`, a verdict the parent could
-    receive before it ends the worker."""
+    receive before it ends the worker.  The worker ends itself within a second of `owner`, the
+    process that started the pool, ending however it ends (killed outright, out of memory)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     z3.set_param("ctrl_c", False)
     _SINK.append(sink)
+
+    def orphaned() -> None:
+        while True:
+            time.sleep(0.5)
+            try:
+                os.kill(owner, 0)
+            except ProcessLookupError:
+                os._exit(0)
+            except PermissionError:  # another user's process has the number now: the owner is gone
+                os._exit(0)
+
+    threading.Thread(target=orphaned, name="tockbmc-orphaned", daemon=True).start()
 
 
 def _decide_in_worker(blob: bytes, index: int, n: int) -> Result:
@@ -309,7 +323,7 @@ class InProcesses:
                 return
             executor = self.executor = ProcessPoolExecutor(
                 max_workers=max(1, min(self.jobs, len(left))), mp_context=context, initializer=_start_worker,
-                initargs=(sink,))
+                initargs=(sink, os.getpid()))
 
         def told(n: int, depth: int | None) -> None:
             if depth is None:  # the check starts: its hard limit counts from here
