@@ -114,20 +114,30 @@ def running(pid: int) -> bool:
     return state != "Z"
 
 
+def deciding_h(tmp_path: Path) -> tuple[subprocess.Popen[str], list[str]]:
+    """`check -j 2` on Q1, H (Z3 spends minutes on it, Spacer beside it) and Q2, started and read up
+    to Q1's row: H is then being decided. The process, and the lines read."""
+    write_files(tmp_path, SLOW)
+    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout is not None
+    lines: list[str] = []
+    while not any(line.startswith("│ Q1") for line in lines):
+        lines.append(p.stdout.readline())
+        if not lines[-1]:
+            p.kill()
+            p.wait()
+            raise AssertionError("the output ended before Q1's row")
+    return p, lines
+
+
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the process tree from /proc")
 def test_rows_stream_and_ctrl_c_ends_the_workers_and_their_spacer_children(tmp_path: Path) -> None:
     """`-j 2` on Q1, H (Z3 spends minutes on it, Spacer beside it) and Q2: Q1's row is printed while H is
     still being decided; Ctrl-C then exits 130 within two seconds, with Q2's verdict (decided by the
     other worker) and H interrupted, and no worker process or Spacer child left a second later."""
-    write_files(tmp_path, SLOW)
-    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p, lines = deciding_h(tmp_path)
     try:
-        assert p.stdout is not None
-        lines = []
-        while not any(line.startswith("│ Q1") for line in lines):
-            lines.append(p.stdout.readline())
-            assert lines[-1], "the output ended before Q1's row"
         time.sleep(1)  # Q2 decided meanwhile, H not (its worker and Spacer busy)
         assert p.poll() is None
         below = descendants(p.pid)
@@ -287,15 +297,8 @@ def test_sigterm_to_the_main_process_prints_what_was_decided_and_ends_every_work
     """SIGTERM (a CI runner's, `timeout`'s) to tockbmc alone, not its group, while H is decided:
     exit 143, Q1's and Q2's verdicts printed and H interrupted, one line on stderr, and no worker
     process, fork server or Spacer child left running."""
-    write_files(tmp_path, SLOW)
-    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p, lines = deciding_h(tmp_path)
     try:
-        assert p.stdout is not None
-        lines = []
-        while not any(line.startswith("│ Q1") for line in lines):
-            lines.append(p.stdout.readline())
-            assert lines[-1], "the output ended before Q1's row"
         below = descendants(p.pid)
         assert below, "no worker process"
         p.send_signal(signal.SIGTERM)
@@ -318,13 +321,8 @@ def test_sigterm_to_the_main_process_prints_what_was_decided_and_ends_every_work
 def test_workers_end_when_the_main_process_is_killed_outright(tmp_path: Path) -> None:
     """SIGKILL (or the out-of-memory killer) gives tockbmc no chance to end its workers: they notice
     that it is gone and end themselves, with their Spacer children, and the fork server with them."""
-    write_files(tmp_path, SLOW)
-    p = subprocess.Popen([*TOCKBMC, "check", str(tmp_path), "--open", "-k", "4", "-a", "Q1", "-a", "H", "-a", "Q2", "-j", "2"],
-                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    p, _lines = deciding_h(tmp_path)
     try:
-        assert p.stdout is not None
-        while not p.stdout.readline().startswith("│ Q1"):
-            assert p.poll() is None, "tockbmc ended before Q1's row"
         below = descendants(p.pid)
         assert below, "no worker process"
         p.kill()
