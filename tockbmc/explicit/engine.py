@@ -61,6 +61,7 @@ from tockbmc.properties.ticktock import (
 )
 
 DEFAULT_MAX_STATES = 1_000_000
+OPEN_POINTS = "open points"  # a result's note of the open functions whose values the search chose
 REFUSAL_MODELS = (*FAILURES_MODELS, TICK_TOCK)  # the models whose checks read what a configuration refuses
 # The assertions searched lazily: each decided by a condition on one node at a time.
 LAZY_KINDS = ("refines", "equals", "terminates", "timelock-free", "reachable")
@@ -462,12 +463,16 @@ def _check_one(project: ast.Project, a: ast.Assertion, bound: int, config: Confi
     decided = _check_assertion(project, a, bound, config, timeout, max_states, progress, seen)
     if not seen:
         return decided
+    functions: tuple[str, ...] = decided.extra.get(OPEN_POINTS, ())
+    if functions:
+        decided = replace(decided, extra={k: v for k, v in decided.extra.items() if k != OPEN_POINTS})
     q, setup = seen[0]
     parameters = setup.parameters + (config.setup(a, q.spec_element.element, q.spec_element.settings).parameters
                                      if q.spec_element is not None else ())
-    if parameters and one_value_only(q, decided.verdict):
+    if (parameters or functions) and one_value_only(q, decided.verdict):
+        # a run or trace the verdict rests on may have chosen what an open function computes
         return replace(decided, verdict=Verdict.UNKNOWN, proof=Proof.NONE,
-                       reason=per_value_reason(parameters, decided.reason))
+                       reason=per_value_reason(parameters, decided.reason, functions))
     return decided
 
 
@@ -484,7 +489,10 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
     defaults: dict[str, str] = {}
 
     def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
-        extra = {"states": len(search.depth), "transitions": search.transitions} if search is not None else {}
+        extra: dict[str, object] = ({"states": len(search.depth), "transitions": search.transitions}
+                                    if search is not None else {})
+        if search is not None and search.interp.points_chosen:  # read by `_check_one`, then dropped
+            extra[OPEN_POINTS] = tuple(search.interp.points_chosen)
         extra.update(more or {})
         if trace:
             proof = Proof.TRACE

@@ -64,9 +64,12 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
   deadlock search), every value is taken.
 * **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
   division by zero is `NotInterpretable`. `/` on reals is exact.
-* **Functions.** `postcondition result == e` defines `f` inside its preconditions (a call outside
-  them is not interpretable: any value is possible);
-  calling any other function is `NotInterpretable`.
+* **Functions.** `postcondition result == e` defines `f` inside its preconditions. Outside them,
+  and for a function with no such postcondition, any value its contract allows is possible: in
+  lazy mode each such function has a table slot, a call at a point not in it raises `NeedPoint`,
+  and `expand` splits the configuration into one per allowed value (the postconditions hold of it
+  inside the preconditions; any value of the result's type outside); otherwise such a call is
+  `NotInterpretable`.
 * **Operation-local variables** without an initial value take every value of their range at each
   call (one internal step per value).
 * **Trigger deadlines** `<{d}`: a transition with a deadline is armed when its frame is stable (or
@@ -153,6 +156,23 @@ class NotInterpretable(Exception):
 
     def __reduce__(self) -> tuple[type[NotInterpretable], tuple[ast.Pos | None, str]]:
         return NotInterpretable, (self.pos, self.what)
+
+
+class NeedPoint(NotInterpretable):
+    """Lazy mode: a function the model leaves open (`--open`: no body, or called outside its
+    preconditions) is called at a point whose value no step has chosen yet; `expand` splits the
+    configuration into one per value the function's contract allows there (`values`), each with the
+    point in the function's table (`slot`). Anywhere else it is not interpretable."""
+
+    def __init__(self, pos: ast.Pos | None, name: str, slot: int, point: tuple, values: tuple) -> None:
+        super().__init__(pos, f"the function {name}, which the model leaves open")
+        self.slot, self.point, self.values = slot, point, values
+
+    def __reduce__(self) -> tuple[type[NotInterpretable], tuple[ast.Pos | None, str]]:  # type: ignore[override]
+        return NotInterpretable, (self.pos, self.what)
+
+
+RESULT = ("#result",)  # the key of `result` among a postcondition's bound names
 
 
 class Record(dict):
@@ -757,6 +777,7 @@ class Interpreter:
         # value (`expand`); visible events may carry Unknowns, except on the channels in `strict`.
         self.lazy = lazy and sampler is None
         self.strict: set[tuple] = set()
+        self.points_chosen: list[str] = []  # the open functions whose values at a point `expand` chose
         self.ename = element.name
         self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
         self.settings = dict(settings or {})
@@ -818,6 +839,9 @@ class Interpreter:
         for n, link in enumerate(self.links):
             if link.asynchronous:
                 link.slot = self._reg(("buf", n), "buf", None, f"buffer {n}", None)
+        if self.lazy:  # a function the model leaves open: its values so far, chosen where first read
+            for f in ast.free_functions(element, self.defined):
+                self._reg(("fun", f.qname), "fun", None, f.name, None)
         self._tdl: dict[int, list[tuple[int, int, ast.Transition]]] = defaultdict(list)
         for key, s in self._slot_of.items():
             if key[0] == "tdl":
@@ -1265,6 +1289,28 @@ class Interpreter:
             return t.name, self.ranges.get(t.name, self.ranges.get(t.qname))
         raise NotInterpretable(None, f"values of type {t}")
 
+    def _open_call(self, ctx: _Ctx, e: ast.Call, f: ast.Function, slot: int, point: tuple, inside: bool) -> object:
+        """The value of a function the model leaves open at `point`: the one its table holds, or
+        (`NeedPoint`) each value its contract allows there, to be chosen by splitting the
+        configuration. Outside its preconditions any value of its type is allowed; inside, those
+        its postconditions hold of (docs/semantics.md §6.4). ctx.bind holds its parameters."""
+        self._concrete(point)  # a point is compared with the table's: its Unknowns are chosen first
+        for at, value in ctx.get(slot):  # type: ignore[attr-defined]
+            if at == point:
+                return value
+        allowed = []
+        for v in self.domain(f.result, (f.qname,)):
+            if inside:
+                assert ctx.bind is not None
+                ctx.bind[RESULT] = v
+                try:
+                    if not all(self._ev(ctx, post) is True for post in f.postconditions):
+                        continue
+                finally:
+                    del ctx.bind[RESULT]
+            allowed.append(v)
+        raise NeedPoint(e.pos, f.name, slot, point, tuple(allowed))
+
     def domain(self, t: ast.Type | None, paths: tuple[str, ...] = ()) -> list:
         """Every value of `t` within the ranges (`paths` are the range paths to try first)."""
         key = (t, paths)
@@ -1532,19 +1578,25 @@ class Interpreter:
             f = e.function
             if f.unchecked:
                 raise NotInterpretable(e.pos, ast.unchecked_function(f))
-            if f.definition is None:
+            table = self._slot_of.get(("fun", f.qname))
+            if f.definition is None and table is None:
                 raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
             args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
             saved = ctx.bind
             ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
             try:
-                if not all(self._ev(ctx, pre) is True for pre in f.preconditions):
+                inside = all(self._ev(ctx, pre) is True for pre in f.preconditions)
+                if inside and f.definition is not None:
+                    return self._ev(ctx, f.definition)
+                if table is None:
                     # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
                     raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
-                return self._ev(ctx, f.definition)
+                return self._open_call(ctx, e, f, table, tuple(args), inside)
             finally:
                 ctx.bind = saved
         if isinstance(e, ast.ResultRef):
+            if ctx.bind is not None and RESULT in ctx.bind:
+                return ctx.bind[RESULT]
             raise NotInterpretable(e.pos, "result outside a postcondition")
         if isinstance(e, ast.SeqLiteral):
             return _coerce(e.type, tuple(self._ev(ctx, x) for x in e.items))
@@ -1817,6 +1869,8 @@ class Interpreter:
         for s, info in enumerate(self.slots):
             if info.kind in ("clock", "since", "tdl"):
                 base[s] = 0
+            elif info.kind == "fun":
+                base[s] = ()  # no point chosen yet
             elif info.kind in ("var", "const"):
                 var = info.var
                 assert var is not None
@@ -2518,6 +2572,13 @@ class Interpreter:
                 out.append((c, self.steps(c)))
             except NeedValue as nv:
                 todo.extend(reversed(self._split(c, nv.unknown)))
+            except NeedPoint as np:  # one configuration per value the function may have there
+                name = self.slots[np.slot].display
+                if name not in self.points_chosen:
+                    self.points_chosen.append(name)
+                store, table = c.store, c.store[np.slot]
+                todo.extend(Config(c.machines, (*store[:np.slot], (*table, (np.point, v)), *store[np.slot + 1:]),
+                                   c.done) for v in reversed(np.values))
         return out
 
     def _split(self, config: Config, u: Unknown) -> list[Config]:
@@ -2545,10 +2606,19 @@ class Interpreter:
         try:
             if not path:
                 return []
+            # An open function's values are chosen as the run first reads them, and never change: the
+            # concrete run has them all from the start (the last configuration's tables).
+            tables = {s: path[-1][2].store[s] for s, info in enumerate(self.slots) if info.kind == "fun"}
+
+            def whole(c: Config) -> Config:
+                if not tables:
+                    return c
+                return Config(c.machines, tuple(tables.get(s, v) for s, v in enumerate(c.store)), c.done)
+
             last: list[tuple[tuple, Unknown]] = []
             _unknowns(path[-1][2].store, (), last)
             free_after = {pos for pos, _ in last}  # positions of Unknowns no later step reads
-            cur = self._filled(path[-1][2], {})
+            cur = whole(self._filled(path[-1][2], {}))
             out: list[tuple[Step, tuple[str, ...]]] = []
             for source, step, _nxt in reversed(path):
                 after: list[tuple[tuple, Unknown]] = []
@@ -2566,7 +2636,7 @@ class Interpreter:
                     chosen[id(u)] = u.values[0] if pos is None else _at(cur.store, pos)
                     if pos is None or pos in free_after:
                         free.add(id(u))
-                prev = self._filled(source, chosen)
+                prev = whole(self._filled(source, chosen))
                 values = cast("tuple", fill(step.event.values, chosen)) if step.event is not None else ()
                 only = _Given(step.event.channel if step.event is not None else None, values)
                 match = next((s for s in self.steps(prev, only) if s.kind == step.kind and s.target == cur and
