@@ -162,7 +162,7 @@ class Search:
 
     def parts(self, config: Config) -> list[Config]:
         """The configurations that are nodes for `config` (itself unless the interpreter splits it)."""
-        if not self.interp.lazy:
+        if not self.interp.splits:
             return [config]
         hit = self.raw.get(config)
         if hit is not None:
@@ -191,9 +191,12 @@ class Search:
         config, mon = cast("tuple[Config, int | None]", key)
         hit = self.raw.get(config)
         if hit is None:
-            if self.interp.lazy:
+            if self.interp.splits:
                 self.parts(config)
-                hit = self.raw[config]
+                hit = self.raw.get(config)
+                if hit is None:  # split, yet asked for as a node by a search that does not take parts
+                    raise Unsupported(None, "this check of a model with a function it leaves open (or an input "
+                                            "read late) needs the configurations the explicit engine splits")
             else:
                 hit = (config, self.interp.steps(config))
                 if self.monitor is not None:  # kept for the configuration's other monitor states

@@ -65,11 +65,11 @@ Choices made where docs/semantics.md is silent (and DESIGN.md too, or where it i
 * **Integer division** is Euclidean (`div`/`mod` of SMT-LIB: the remainder is never negative);
   division by zero is `NotInterpretable`. `/` on reals is exact.
 * **Functions.** `postcondition result == e` defines `f` inside its preconditions. Outside them,
-  and for a function with no such postcondition, any value its contract allows is possible: in
-  lazy mode each such function has a table slot, a call at a point not in it raises `NeedPoint`,
-  and `expand` splits the configuration into one per allowed value (the postconditions hold of it
-  inside the preconditions; any value of the result's type outside); otherwise such a call is
-  `NotInterpretable`.
+  and for a function with no such postcondition, any value its contract allows is possible: each
+  such function has a table slot (not with a `Sampler`), a call at a point not in it raises
+  `NeedPoint`, and `expand` splits the configuration into one per allowed value (the
+  postconditions hold of it inside the preconditions; any value of the result's type outside);
+  where no `expand` splits (replay, `simulate`), such a call is `NotInterpretable`.
 * **Operation-local variables** without an initial value take every value of their range at each
   call (one internal step per value).
 * **Trigger deadlines** `<{d}`: a transition with a deadline is armed when its frame is stable (or
@@ -839,9 +839,11 @@ class Interpreter:
         for n, link in enumerate(self.links):
             if link.asynchronous:
                 link.slot = self._reg(("buf", n), "buf", None, f"buffer {n}", None)
-        if self.lazy:  # a function the model leaves open: its values so far, chosen where first read
+        if sampler is None:  # a function the model leaves open: its values so far, chosen where first read
             for f in ast.free_functions(element, self.defined):
                 self._reg(("fun", f.qname), "fun", None, f.name, None)
+        # whether a search must take its nodes from `expand`: Unknowns, or open functions' points, to choose
+        self.splits = self.lazy or any(info.kind == "fun" for info in self.slots)
         self._tdl: dict[int, list[tuple[int, int, ast.Transition]]] = defaultdict(list)
         for key, s in self._slot_of.items():
             if key[0] == "tdl":
