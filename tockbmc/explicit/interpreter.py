@@ -164,9 +164,10 @@ class NeedPoint(NotInterpretable):
     configuration into one per value the function's contract allows there (`values`), each with the
     point in the function's table (`slot`). Anywhere else it is not interpretable."""
 
-    def __init__(self, pos: ast.Pos | None, name: str, slot: int, point: tuple, values: tuple) -> None:
+    def __init__(self, pos: ast.Pos | None, name: str, slot: int, point: tuple,
+                 values: Callable[[], tuple]) -> None:
         super().__init__(pos, f"the function {name}, which the model leaves open")
-        self.slot, self.point, self.values = slot, point, values
+        self.slot, self.point, self.values = slot, point, values  # `values()`: listed only by `expand`
 
     def __reduce__(self) -> tuple[type[NotInterpretable], tuple[ast.Pos | None, str]]:  # type: ignore[override]
         return NotInterpretable, (self.pos, self.what)
@@ -1300,18 +1301,19 @@ class Interpreter:
         for at, value in ctx.get(slot):  # type: ignore[attr-defined]
             if at == point:
                 return value
-        allowed = []
-        for v in self.domain(f.result, (f.qname,)):
-            if inside:
-                assert ctx.bind is not None
-                ctx.bind[RESULT] = v
-                try:
+        bound = dict(ctx.bind or {})
+
+        def allowed() -> tuple:
+            out = []
+            for v in self.domain(f.result, (f.qname,)):
+                if inside:
+                    ctx.bind = {**bound, RESULT: v}
                     if not all(self._ev(ctx, post) is True for post in f.postconditions):
                         continue
-                finally:
-                    del ctx.bind[RESULT]
-            allowed.append(v)
-        raise NeedPoint(e.pos, f.name, slot, point, tuple(allowed))
+                out.append(v)
+            return tuple(out)
+
+        raise NeedPoint(e.pos, f.name, slot, point, allowed)
 
     def domain(self, t: ast.Type | None, paths: tuple[str, ...] = ()) -> list:
         """Every value of `t` within the ranges (`paths` are the range paths to try first)."""
@@ -2580,7 +2582,7 @@ class Interpreter:
                     self.points_chosen.append(name)
                 store, table = c.store, c.store[np.slot]
                 todo.extend(Config(c.machines, (*store[:np.slot], (*table, (np.point, v)), *store[np.slot + 1:]),
-                                   c.done) for v in reversed(np.values))
+                                   c.done) for v in reversed(np.values()))
         return out
 
     def _split(self, config: Config, u: Unknown) -> list[Config]:
