@@ -27,8 +27,7 @@ import threading
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, fields, is_dataclass
-from fractions import Fraction
+from dataclasses import dataclass
 from multiprocessing import Pipe
 from multiprocessing.connection import Connection, wait
 
@@ -72,23 +71,9 @@ def explicit_races(config: Configuration) -> bool:
 
 def uses_reals(project: ast.Project) -> bool:
     """Whether anything of the project's model has a real type (a value, a variable, an event's)."""
-    stack: list[object] = [project.machines, project.operations, project.controllers, project.functions,
-                           project.modules, project.interfaces, project.platforms]
-    seen: set[int] = set()
-    while stack:
-        item = stack.pop()
-        if item is None or isinstance(item, (str, int, float, bool, Fraction, ast.Pos)) or id(item) in seen:
-            continue
-        seen.add(id(item))
-        if isinstance(item, ast.PrimitiveType) and item == ast.REAL:
-            return True
-        if isinstance(item, (tuple, list)):
-            stack.extend(item)
-        elif isinstance(item, dict):
-            stack.extend(item.values())
-        elif is_dataclass(item) and not isinstance(item, type):
-            stack.extend(getattr(item, f.name) for f in fields(item))
-    return False
+    return any(isinstance(item, ast.PrimitiveType) and item == ast.REAL
+               for item in ast.parts(project.machines, project.operations, project.controllers, project.functions,
+                                     project.modules, project.interfaces, project.platforms))
 
 
 def decide(project: ast.Project, a: ast.Assertion, bound: int, config: Configuration, timeout: float | None,
