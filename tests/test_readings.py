@@ -143,8 +143,42 @@ def test_the_open_reading_keeps_a_function_without_a_body_open(tmp_path: Path) -
     bmc, explicit = both(tmp_path, {"m.rct": FUNCTIONS, "m.assertions": FUNCTIONS_ASSERTIONS}, Reading.OPEN)
     expected = {"Zero": "unknown", "Other": "violated", "Fine": "unknown"}
     assert verdicts(bmc) == verdicts(explicit) == expected, [r.reason for r in explicit.values()]
-    assert "results of the functions without a body (f, pos, ok)" in (explicit["Zero"].reason or "")
+    assert "results of the functions without a body (f, ok, pos)" in (explicit["Zero"].reason or "")
     assert "states" in explicit["Other"].extra and "open points" not in explicit["Other"].extra
+
+
+EVERY_CHOICE = """\
+function f(n : int) : int { }
+stm M {
+  var x : int = 0
+  initial i
+  state s0 { entry x = f(x) }
+  state read {}
+  state positive {}
+  final done
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to read condition x > 0 \\/ x <= 0 }
+  transition t2 { from read to positive condition x > 0 }
+  transition t3 { from read to done condition x <= 0 }
+  transition t4 { from positive to done }
+}
+"""
+EVERY_CHOICE_ASSERTIONS = """\
+assertion Read: read is reachable in M.
+assertion Ends: M terminates.
+assertion Positive: positive is reachable in M.
+"""
+
+
+def test_a_witness_that_stands_for_every_value_of_an_open_function_holds_in_the_open_reading(tmp_path: Path) -> None:
+    """`read` is entered whatever f(0) is, and M terminates whatever it is: each witness reads f, yet
+    every value it may have leads on to the target, so both engines decide them. `positive` is
+    entered only where f(0) > 0: unknown in both, the claim needing every function."""
+    bmc, explicit = both(tmp_path, {"m.rct": EVERY_CHOICE, "m.assertions": EVERY_CHOICE_ASSERTIONS}, Reading.OPEN)
+    assert verdicts(explicit) == {"Read": "holds", "Ends": "holds", "Positive": "unknown"}, \
+        [r.reason for r in explicit.values()]
+    assert verdicts(bmc)["Read"] == "holds" and verdicts(bmc)["Positive"] == "unknown", [r.reason for r in bmc.values()]
+    assert "results of the functions without a body (f)" in (explicit["Positive"].reason or "")
 
 
 @pytest.mark.parametrize(("post", "meets"), [("result >= 0", True), ("result > n", False),

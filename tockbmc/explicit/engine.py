@@ -24,7 +24,7 @@ from fractions import Fraction
 from functools import partial
 from typing import NamedTuple, cast
 
-from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Step, Unbounded, fill, unknowns
+from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Split, Step, Unbounded, fill, unknowns
 from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration, Setup, configure
@@ -104,6 +104,13 @@ class Edge(NamedTuple):
     raw: Step
 
 
+WITNESS_NODES = 20_000  # the most nodes `Search.for_every_choice` looks at before it gives up
+
+
+class _OutOfBudget(Exception):
+    """`Search.for_every_choice` has looked at `WITNESS_NODES` nodes."""
+
+
 class _Strict(Exception):
     """The specification tells apart values of `channel` that the lazy search left unchosen."""
 
@@ -157,6 +164,8 @@ class Search:
         self.succ: dict[Hashable, list[Edge]] = {}
         self.raw: dict[Config, tuple[Config, list[Step]]] = {}  # the canonical configuration and its steps
         self.split: dict[Config, list[Config]] = {}  # a configuration to the canonical ones it stands for
+        self.witness: tuple[Hashable, tuple[TraceStep, ...]] | None = None  # the last run `trace` gave
+        self.every_choice: Hashable | None = None  # a witness `for_every_choice` showed for every function
 
     # --- the element in its CSP context
 
@@ -348,7 +357,72 @@ class Search:
                 assert s.event is not None
                 out.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values,
                                      free=free))
-        return tuple(out)
+        self.witness = (key, tuple(out))
+        return self.witness[1]
+
+    def points_rested_on(self, trace: tuple[TraceStep, ...]) -> tuple[str, ...]:
+        """The open functions whose chosen values a verdict with `trace` may rest on: those chosen
+        along the run, when `trace` is the last run `trace()` gave; else any the search chose."""
+        if trace and self.witness is not None and self.witness[1] is trace:
+            if self.every_choice is not None and self.every_choice == self.witness[0]:
+                return ()
+            return self.interp.points_in(cast("tuple[Config, int | None]", self.witness[0])[0])
+        return tuple(self.interp.points_chosen)
+
+    def for_every_choice(self, witness: Hashable, target: Callable[[Hashable, list[Edge]], bool]) -> bool:
+        """Whether, whatever the open functions compute, some run of at most `bound` visible steps
+        reaches a node where `target` holds; if so, `witness` (such a node, found for the values the
+        search chose) stands for every choice, and `points_rested_on` says so.
+
+        A game over the lazily chosen values: where a step reads an open function at a point not
+        chosen yet, every value its contract allows must lead on to a target (the function is any
+        function meeting it); where it reads an input, one value may (the environment chooses); at
+        a configuration, one of its steps may. A run so chosen depends only on the values read
+        before it, so it is a run of each function that agrees with them. Internal cycles and a
+        budget of `WITNESS_NODES` give `False`: the claim stays for the values chosen only."""
+        if not self.interp.points_in(cast("tuple[Config, int | None]", witness)[0]):
+            return True
+        vain: dict[tuple[Config, int | None], int] = {}  # the most visible steps left it was tried with, in vain
+        won: set[tuple[Config, int | None]] = set()
+        left_nodes = [WITNESS_NODES]
+
+        def wins(config: Config, mon: int | None, left: int) -> bool:
+            node = (config, mon)
+            if node in won:
+                return True
+            if vain.get(node, -1) >= left:
+                return False
+            vain[node] = left  # in vain until shown otherwise: a cycle back here does not win
+            left_nodes[0] -= 1
+            if left_nodes[0] < 0:
+                raise _OutOfBudget
+            self.check_time()
+            unfolded = self.interp.unfold(config)
+            if isinstance(unfolded, Split):
+                ways = (wins(part, mon, left) for part in unfolded.parts)
+                shown = all(ways) if unfolded.point else any(ways)
+            else:
+                self.raw.setdefault(config, (config, unfolded))
+                succ = self.steps(node)
+                shown = mon == Monitor.DEAD or target(node, succ) or any(
+                    wins(*cast("tuple[Config, int | None]", e.node), left - (e.step.kind != "internal"))
+                    for e in succ if e.step.kind == "internal" or left > 0)
+            if shown:
+                won.add(node)
+            return shown
+
+        first = None
+        if self.monitor is not None:
+            first = self.monitor.initial
+            for e in self.context.impl.head if self.context is not None else ():
+                first = self.monitor.after(first, e)
+        try:
+            shown = any(wins(c, first, self.bound) for c in self.interp.initial_configs())
+        except (_OutOfBudget, RecursionError, TimeoutError):
+            return False
+        if shown:
+            self.every_choice = witness
+        return shown
 
     def time_only(self, alive: Callable[[Hashable], bool]) -> Hashable | None:
         """The nearest explored configuration from which only tock is ever possible (every
@@ -467,7 +541,7 @@ def _check_one(project: ast.Project, a: ast.Assertion, bound: int, config: Confi
     if not seen:
         return decided
     functions: tuple[str, ...] = decided.extra.get(OPEN_POINTS, ())
-    if functions:
+    if OPEN_POINTS in decided.extra:
         decided = replace(decided, extra={k: v for k, v in decided.extra.items() if k != OPEN_POINTS})
     q, setup = seen[0]
     parameters = setup.parameters + (config.setup(a, q.spec_element.element, q.spec_element.settings).parameters
@@ -495,7 +569,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
         extra: dict[str, object] = ({"states": len(search.depth), "transitions": search.transitions}
                                     if search is not None else {})
         if search is not None and search.interp.points_chosen:  # read by `_check_one`, then dropped
-            extra[OPEN_POINTS] = tuple(search.interp.points_chosen)
+            extra[OPEN_POINTS] = search.points_rested_on(trace)
         extra.update(more or {})
         if trace:
             proof = Proof.TRACE
@@ -1053,6 +1127,7 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         ends = [k for k in search.depth if terminated(k)]
         if ends:
             best = min(ends, key=lambda k: search.depth[k])
+            search.for_every_choice(best, lambda key, succ: terminated(key))
             if not search.complete:  # the witness is whole, the claim about every configuration is not
                 return replace(result(Verdict.HOLDS, f"no configuration short of termination within {search.bound} "
                                       f"visible steps refuses every event; witness: {name} has terminated",
@@ -1071,7 +1146,10 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         hit = search.run(lambda key, succ: "timelock" if not internal(succ) and not tock(succ) else None)
         if hit is not None:
             why = f"{name} has terminated, so tock is refused" if terminated(hit[0]) else f"{name} refuses tock here"
-            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
+            trace = search.trace(hit[0])
+            if negated:
+                search.for_every_choice(hit[0], lambda key, succ: not internal(succ) and not tock(succ))
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, trace)
         if negated:
             return result(Verdict.VIOLATED if search.complete else Verdict.UNKNOWN, f"no configuration refuses tock; {scope()}")
         return done("no configuration refuses tock")
@@ -1081,7 +1159,10 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
             why = (f"{name} has terminated, and so refuses every event: untimed, FDR's :[deadlock free] counts "
                    "termination as a deadlock" if terminated(hit[0]) else
                    f"{name} has not terminated and refuses every event")
-            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, search.trace(hit[0]))
+            trace = search.trace(hit[0])
+            if negated:
+                search.for_every_choice(hit[0], lambda key, succ: not succ)
+            return result(Verdict.HOLDS if negated else Verdict.VIOLATED, why, trace)
         loop = search.nearest_divergence()
         if loop is not None:
             return result(Verdict.HOLDS if negated else Verdict.VIOLATED,
@@ -1122,7 +1203,9 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
 
         hit = search.run(entered)
         if hit is not None:
-            return result(Verdict.VIOLATED if negated else Verdict.HOLDS, f"state {state} is entered", search.trace(hit[0]))
+            trace = search.trace(hit[0])
+            search.for_every_choice(hit[0], lambda key, succ: entered(key, succ) is not None)
+            return result(Verdict.VIOLATED if negated else Verdict.HOLDS, f"state {state} is entered", trace)
         if negated:
             return done(f"state {state} is never entered")
         if search.complete:

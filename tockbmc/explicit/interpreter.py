@@ -432,6 +432,14 @@ class Step:
 TOCK = Event("tock", ("tock",), ())
 
 
+class Split(NamedTuple):
+    """A configuration whose steps read a value not chosen yet, as the configurations of each
+    value: an open function's at a point (`point`: every one must be allowed for), or an input's."""
+
+    point: bool
+    parts: list[Config]
+
+
 class Frame(NamedTuple):
     """One activation: the machine, or a defined operation it runs.
 
@@ -2572,18 +2580,33 @@ class Interpreter:
         todo = [config]
         while todo:
             c = todo.pop()
-            try:
-                out.append((c, self.steps(c)))
-            except NeedValue as nv:
-                todo.extend(reversed(self._split(c, nv.unknown)))
-            except NeedPoint as np:  # one configuration per value the function may have there
-                name = self.slots[np.slot].display
-                if name not in self.points_chosen:
-                    self.points_chosen.append(name)
-                store, table = c.store, c.store[np.slot]
-                todo.extend(Config(c.machines, (*store[:np.slot], (*table, (np.point, v)), *store[np.slot + 1:]),
-                                   c.done) for v in reversed(np.values()))
+            unfolded = self.unfold(c)
+            if isinstance(unfolded, Split):
+                todo.extend(reversed(unfolded.parts))
+            else:
+                out.append((c, unfolded))
         return out
+
+    def unfold(self, config: Config) -> list[Step] | Split:
+        """`config`'s steps, or the configurations it splits into where its steps read a value not
+        chosen yet: an input's or an open initial value's (the environment's choice), or an open
+        function's at a point (the model's: `Split.point`)."""
+        try:
+            return self.steps(config)
+        except NeedValue as nv:
+            return Split(False, self._split(config, nv.unknown))
+        except NeedPoint as np:  # one configuration per value the function may have there
+            name = self.slots[np.slot].display
+            if name not in self.points_chosen:
+                self.points_chosen.append(name)
+            store, table = config.store, config.store[np.slot]
+            return Split(True, [Config(config.machines, (*store[:np.slot], (*table, (np.point, v)), *store[np.slot + 1:]),
+                                       config.done) for v in np.values()])
+
+    def points_in(self, config: Config) -> tuple[str, ...]:
+        """The open functions whose value at some point `config` has chosen: on a run's last
+        configuration, those whose choices the run rests on (a table only grows along a run)."""
+        return tuple(sorted(info.display for s, info in enumerate(self.slots) if info.kind == "fun" and config.store[s]))
 
     def _split(self, config: Config, u: Unknown) -> list[Config]:
         slot = next((s for s, v in enumerate(config.store) if _holds(v, u)), None)
