@@ -11,6 +11,7 @@ import re
 import select
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from conftest import COUNTER, EXAMPLE, run_cli, write_files
 from test_cli_robustness import SLOW, TOCKBMC
 
 from tockbmc import load
+from tockbmc.launch import HOLD_IMPORT
 from tockbmc.model.config import configure
 from tockbmc.parallel import InProcess, InProcesses, Job, OnDask
 
@@ -334,3 +336,67 @@ def test_workers_end_when_the_main_process_is_killed_outright(tmp_path: Path) ->
     while [pid for pid in below if running(pid)] and time.monotonic() < deadline:
         time.sleep(0.1)
     assert [pid for pid in below if running(pid)] == []
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), [(signal.SIGINT, 130, "tockbmc: interrupted\n"),
+                                                      (signal.SIGTERM, 143, "tockbmc: terminated (SIGTERM)\n")])
+def test_a_signal_while_tockbmc_is_still_being_imported_ends_it_with_one_line(
+        tmp_path: Path, sig: int, status: int, line: str) -> None:
+    """Ctrl-C or SIGTERM before the checker is imported (the first few tenths of a second): the
+    documented status and line, no traceback. The hook holds the command where the import starts."""
+    held = tmp_path / "importing"
+    p = subprocess.Popen([sys.executable, "-m", "tockbmc", "check", str(EXAMPLE)], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env={**os.environ, HOLD_IMPORT: str(held)})
+    try:
+        deadline = time.monotonic() + 60  # the event waited for: the hold reached
+        while not held.exists() and time.monotonic() < deadline and p.poll() is None:
+            time.sleep(0.02)
+        p.send_signal(sig)
+        out, err = p.communicate(timeout=30)
+    finally:
+        p.kill()
+        p.wait()
+    assert (p.returncode, out, err) == (status, "", line)
+
+
+IGNORING_CTRL_C = """\
+import os, signal, subprocess, sys
+from tockbmc.parallel import _start_ignoring_ctrl_c
+children = []
+def start():
+    os.kill(os.getpid(), signal.SIGINT)  # held, not lost
+    children.append(subprocess.Popen([sys.executable, "-c",
+                                      "import signal; print(signal.getsignal(signal.SIGINT) == signal.SIG_IGN)"],
+                                     stdout=subprocess.PIPE, text=True))
+try:
+    _start_ignoring_ctrl_c(start)
+except KeyboardInterrupt:
+    print("delivered after the start")
+print("child ignores it:", children[0].communicate()[0].strip())
+print("handler back:", signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+"""
+
+
+def test_a_process_started_for_tockbmc_ignores_ctrl_c_from_its_start_and_none_is_lost() -> None:
+    """The fork server is started so (`_start_ignoring_ctrl_c`): it ignores Ctrl-C before it has
+    imported anything (Python keeps an ignored SIGINT ignored), while tockbmc's own Ctrl-C, sent
+    during the start, is delivered once the start is over (in a process of its own: the main thread's)."""
+    out = subprocess.run([sys.executable, "-c", IGNORING_CTRL_C], capture_output=True, text=True, timeout=120)
+    assert out.stdout.splitlines() == ["delivered after the start", "child ignores it: True", "handler back: True"], \
+        out.stderr
+
+
+def test_a_helper_process_ends_when_its_owner_is_a_zombie_nobody_has_reaped() -> None:
+    """A worker watches tockbmc, which need not be its parent: tockbmc ended but not yet reaped (its
+    own parent busy reading its output) is gone all the same, though `kill(pid, 0)` still answers."""
+    owner = subprocess.Popen([sys.executable, "-c", "pass"])
+    try:
+        deadline = time.monotonic() + 60  # the event waited for: the owner a zombie
+        while running(owner.pid) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        os.kill(owner.pid, 0)  # a zombie still answers
+        watcher = subprocess.Popen([sys.executable, "-c", "import time; from tockbmc.model.lifetime import end_with; "
+                                    f"end_with({owner.pid}); time.sleep(120); raise SystemExit(1)"])
+        assert watcher.wait(timeout=90) == 0
+    finally:
+        owner.wait()

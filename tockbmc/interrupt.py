@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import signal
 import threading
-from collections.abc import Callable, Iterable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Generic, TypeVar
 
@@ -20,6 +19,7 @@ import z3
 from tockbmc.model import ast
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.result import Proof, Result, Verdict
+from tockbmc.parallel import ctrl_c_held
 
 T = TypeVar("T")
 
@@ -85,7 +85,7 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
     def hand_over(upto: int) -> None:
         nonlocal handed
         while on_item is not None and handed < upto:
-            with _ctrl_c_held():
+            with ctrl_c_held():
                 on_item(drawn[handed])
                 handed += 1
 
@@ -113,20 +113,6 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
     if failure:
         raise failure[0]
     return Decided(drawn)
-
-
-@contextmanager
-def _ctrl_c_held() -> Iterator[None]:
-    """Ctrl-C is delivered when the block ends, not inside it (where it would cut output in two)."""
-    mask = getattr(signal, "pthread_sigmask", None)  # not on Windows: there the block can be cut
-    if mask is None or threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    mask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        mask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
 def interrupted(a: ast.Assertion, ranges: Ranges, engine: str) -> Result:

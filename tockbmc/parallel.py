@@ -28,6 +28,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
 from multiprocessing import forkserver, resource_tracker, util
@@ -40,6 +41,7 @@ from tockbmc.check import check_assertion
 from tockbmc.explicit.engine import DEFAULT_MAX_STATES
 from tockbmc.explicit.engine import check_assertion as check_assertion_explicit
 from tockbmc.model.config import Configuration
+from tockbmc.model.lifetime import end_with
 from tockbmc.model.limits import recursion_room
 from tockbmc.model.result import Proof, Result, Verdict
 
@@ -204,18 +206,7 @@ def _start_worker(sink: Any, owner: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     z3.set_param("ctrl_c", False)
     _SINK.append(sink)
-
-    def orphaned() -> None:
-        while True:
-            time.sleep(0.5)
-            try:
-                os.kill(owner, 0)
-            except ProcessLookupError:
-                os._exit(0)
-            except PermissionError:  # another user's process has the number now: the owner is gone
-                os._exit(0)
-
-    threading.Thread(target=orphaned, name="tockbmc-orphaned", daemon=True).start()
+    end_with(owner)
 
 
 def _decide_in_worker(blob: bytes, index: int, n: int) -> Result:
@@ -256,6 +247,37 @@ def _stop_servers_at_exit() -> None:
     atexit.register(stop_servers)  # once (cached)
 
 
+@contextmanager
+def ctrl_c_held() -> Iterator[None]:
+    """Ctrl-C is delivered when the block ends, not inside it (where it would cut output in two)."""
+    mask = getattr(signal, "pthread_sigmask", None)  # not on Windows: there the block can be cut
+    if mask is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    mask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        mask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+def _start_ignoring_ctrl_c(start: Callable[[], None]) -> None:
+    """`start` a process that ignores Ctrl-C from its first instruction: an ignored signal stays
+    ignored across exec. The fork server would otherwise take a Ctrl-C to the process group while it
+    imports tockbmc, before it ignores Ctrl-C itself, and print a traceback; tockbmc ends its workers
+    itself, and they ignore Ctrl-C (`_start_worker`). Meanwhile Ctrl-C is held here, not lost (Linux
+    keeps a blocked signal pending even while it is ignored), and delivered once the handler is back."""
+    if threading.current_thread() is not threading.main_thread():
+        start()
+        return
+    with ctrl_c_held():
+        handler = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            start()
+        finally:
+            signal.signal(signal.SIGINT, handler)
+
+
 def _context() -> multiprocessing.context.BaseContext:
     """forkserver (spawn where there is none): Z3 is not forked with state in it, and workers start
     from a server that has imported tockbmc once."""
@@ -263,6 +285,7 @@ def _context() -> multiprocessing.context.BaseContext:
     if "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(["tockbmc.parallel"])
+        _start_ignoring_ctrl_c(forkserver.ensure_running)
         return context
     return multiprocessing.get_context("spawn")
 
@@ -270,9 +293,7 @@ def _context() -> multiprocessing.context.BaseContext:
 def warm_up() -> None:
     """Start the fork server that worker processes come from, so that it imports tockbmc while this
     process loads the model (about half a second saved at the start of `check -j`)."""
-    if "forkserver" in multiprocessing.get_all_start_methods():
-        _context()
-        forkserver.ensure_running()
+    _context()
 
 
 def overran(job: Job, index: int, seconds: float, in_process: bool = False) -> Result:

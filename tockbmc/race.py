@@ -35,6 +35,7 @@ from tockbmc.check import check_assertion as check_bmc
 from tockbmc.explicit.engine import check_assertion as check_explicit
 from tockbmc.model import ast
 from tockbmc.model.config import Configuration
+from tockbmc.model.lifetime import end_with
 from tockbmc.model.result import Proof, Result, Verdict
 
 GRACE = 10.0  # seconds the other engine is waited for after a first answer short of a complete one (no timeout)
@@ -209,13 +210,7 @@ def _detach(parent: int) -> None:
     warnings.simplefilter("ignore")
     if os.getppid() != parent:  # the parent ended before this process looked
         os._exit(0)
-
-    def orphaned() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.2)
-        os._exit(0)
-
-    threading.Thread(target=orphaned, daemon=True).start()
+    end_with()
 
 
 class _Race:

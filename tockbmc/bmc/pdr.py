@@ -25,8 +25,6 @@ import contextlib
 import multiprocessing
 import os
 import signal
-import threading
-import time
 from multiprocessing.connection import Connection
 
 import z3
@@ -35,6 +33,7 @@ from tockbmc.encodings import names
 from tockbmc.encodings.system import TransitionSystem
 from tockbmc.encodings.terms import constants, subterms
 from tockbmc.encodings.values import leaves
+from tockbmc.model.lifetime import end_with
 
 
 def applicable(system: TransitionSystem, target: z3.BoolRef) -> str | None:
@@ -90,14 +89,7 @@ def _detach() -> None:
     devnull = os.open(os.devnull, os.O_RDWR)
     for fd in (0, 1, 2):
         os.dup2(devnull, fd)
-    parent = os.getppid()
-
-    def orphaned() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.2)
-        os._exit(0)
-
-    threading.Thread(target=orphaned, daemon=True).start()
+    end_with()
 
 
 class Spacer:

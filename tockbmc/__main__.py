@@ -1,0 +1,5 @@
+"""`python -m tockbmc`: the `tockbmc` command."""
+
+from tockbmc.launch import main
+
+main()
