@@ -217,6 +217,23 @@ def test_ctrl_c_prints_what_was_decided_and_exits_130_at_once(tmp_path: Path) ->
     assert simulate_err.endswith("tockbmc: interrupted\n") and "Aborted" not in simulate_err
 
 
+def test_ctrl_c_stops_explore_between_its_queries_and_inside_one() -> None:
+    """explore solves in a worker thread with Z3's own Ctrl-C handler off (which would end one query
+    as `unknown` and go on): once the first assertion is printed, Ctrl-C ends it with 130 and one
+    line, what it printed kept, the other assertions not explored."""
+    p = subprocess.Popen([*TOCKBMC, "explore", str(EXAMPLE)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout is not None
+        first = p.stdout.readline()  # the event waited for: the first assertion explored
+        p.send_signal(signal.SIGINT)
+        rest, err = p.communicate(timeout=60)
+    finally:
+        p.kill()
+        p.wait()
+    assert first.startswith("A1 ") and (p.returncode, err) == (130, "tockbmc: interrupted\n"), err
+    assert "A7 " not in rest
+
+
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full here")
 def test_a_report_that_cannot_be_written_is_one_line_after_the_verdicts() -> None:
     """`--report /dev/full`: the verdicts are printed, then one line says the report was not

@@ -436,16 +436,21 @@ def explore(paths: tuple[str, ...], names: tuple[str, ...], param_specs: tuple[s
         click.echo("tockbmc: the model has no assertions: exploring RoboTool's core assertions", err=True)
         project = dataclasses.replace(project, assertions=core_assertions(project))
     _known_assertions(project, names)
-    found: list[Exploration] = []
     console = _stdout_console()
-    try:
-        for e in explore_project(project, names or None, bound, ranges, settings, param_specs, timeout):
-            found.append(e)
-            if fmt == "text":
-                with reader_may_leave(sys.stdout):
-                    print_exploration(e, console)
+
+    def show(e: Exploration) -> None:
+        if fmt == "text":
+            with reader_may_leave(sys.stdout):
+                print_exploration(e, console)
+
+    try:  # in a worker thread, as `check` decides: Ctrl-C and SIGTERM stop it within a moment
+        decided = decide(explore_project(project, names or None, bound, ranges, settings, param_specs, timeout),
+                         on_item=show)
     except ConfigError as exc:
         raise click.BadParameter(str(exc), param_hint=f"'{exc.option}'") from None
+    found = decided.results
+    if decided.interrupted:
+        _exit_interrupted(clean=decided.worker_done, signum=decided.signal)
     with reader_may_leave(sys.stdout):
         if fmt == "json":
             click.echo(json.dumps(explore_json(found, __version__, bound), indent=2, ensure_ascii=False))
