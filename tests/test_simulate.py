@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import resource
+import select
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import pytest
 from conftest import EXAMPLE, run_cli, write_files
 
 REALISTIC = ["--range", "core_int=-1..1", "--range", "core_real=-1..1"]
@@ -37,10 +39,11 @@ def test_the_default_element_of_the_example_runs_in_bounded_time_and_memory() ->
             p.wait()
     assert [p.returncode for p in runs] == [0, 0], bare_err + realistic_err
     # The types it draws values of with no range say so (n_waypoints is a constant: RoboTool's default, 0).
-    assert bare.startswith("a random run of main (seed 0; with no range given, core_int=-2..2, core_real=-2..2)")
-    assert realistic.startswith("a random run of main (seed 0)\n")  # core_nat: core_int's range from 0
+    assert bare.startswith("a random run of main (seed 0)\n")
+    assert "→ 20 steps taken (with no range given, values drawn from core_int=-2..2, core_real=-2..2)" in bare
+    assert "→ 20 steps taken\n" in realistic  # core_nat: core_int's range from 0
     for out in (bare, realistic):
-        assert "\n   20  " in out and "→ 20 steps taken" in out
+        assert "\n   20  " in out
 
 
 def test_huge_ranges_are_drawn_from_not_listed() -> None:
@@ -98,3 +101,33 @@ def test_an_unknown_element_is_a_usage_error_with_the_closest_name() -> None:
     out = run_cli(["simulate", str(EXAMPLE), "--element", "EXAXX"])
     assert out.exit_code == 2 and out.crash is None, out.output
     assert "did you mean 'EXAX'?" in out.output and "known:" in out.output
+
+
+def _resident_kib(pid: int) -> int:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1])
+    raise AssertionError("no VmRSS")
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads memory from /proc")
+def test_a_long_random_run_streams_its_steps_in_flat_memory() -> None:
+    """`--steps 100000000`: each step is printed as it is taken, none kept: from the 2,000th step to
+    the 20,000th the process grows by less than 16 MiB (kept, they would take far more)."""
+    p = subprocess.Popen([sys.executable, "-m", "tockbmc", "simulate", str(EXAMPLE), "--steps", "100000000"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout is not None
+        sizes = {}
+        for n in range(1, 20_002):  # the header, then steps
+            ready, _, _ = select.select([p.stdout], [], [], 300)
+            assert ready, "no step printed in five minutes: the run is not streamed"
+            line = p.stdout.readline()
+            assert line, p.communicate()[1]
+            if n in (2_001, 20_001):
+                assert line.lstrip().startswith(f"{n - 1}  "), line
+                sizes[n] = _resident_kib(p.pid)
+    finally:
+        p.kill()
+        p.wait()
+    assert sizes[20_001] - sizes[2_001] < 16 * 1024, sizes

@@ -37,7 +37,7 @@ from tockbmc.parallel import InProcess, InProcesses, Job, OnDask, Unreachable, o
 from tockbmc.report import itf, junit, sarif
 from tockbmc.report.diagnostics import render, summary
 from tockbmc.report.progress import ProgressDisplay
-from tockbmc.report.results import ResultTable, print_details, print_trace
+from tockbmc.report.results import ResultTable, print_details, print_step
 from tockbmc.report.results import to_json as results_json
 from tockbmc.report.streams import PipeConsole, reader_may_leave, usable_streams
 from tockbmc.report.structure import project_data, project_tree
@@ -473,24 +473,28 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
              set_specs: tuple[str, ...]) -> None:
     """Print a random run of an element of the model in PATHS, as a trace."""
     from tockbmc.explicit.interpreter import NotInterpretable, Unbounded
-    from tockbmc.explicit.simulate import pick, run_random
+    from tockbmc.explicit.simulate import RandomRun, pick
     project = _load(paths)
     config = _configure(project, range_specs, set_specs)
     try:
-        setup = config.setup(None, pick(config.project, element))
-        result = run_random(config.project, element, steps, seed, setup.ranges, setup.constants)
+        chosen = pick(config.project, element)
     except LookupError as exc:
         raise click.BadParameter(str(exc), param_hint="'--element'") from None
+    width = None if sys.stdout.isatty() else 160
+    try:
+        setup = config.setup(None, chosen)
+        run = RandomRun(config.project, element, steps, seed, setup.ranges, setup.constants)
+        with reader_may_leave(sys.stdout):  # `tockbmc simulate … | head`
+            console = PipeConsole(width=width, soft_wrap=True)
+            console.print(Text(run.text, style="bold"))
+            for step in run:  # each as it is taken: a long run streams, in flat memory
+                print_step(step, console)
+            console.print(Text(f"  → {run.end()}", style="bold"))
     except Unbounded as exc:
         raise click.UsageError(f"simulate needs finite data: {_range_hint(exc, config)}") from None
     except NotInterpretable as exc:
         click.echo(f"{exc.pos}: unsupported: {exc.what}", err=True)
         sys.exit(EXIT_MODEL_ERROR)
-    width = None if sys.stdout.isatty() else 160
-    with reader_may_leave(sys.stdout):  # `tockbmc simulate … | head`
-        console = PipeConsole(width=width, soft_wrap=True)
-        console.print(Text(result.text, style="bold"))
-        print_trace(result, console)
 
 
 def _guarded(command: Callable[[], T]) -> Callable[[], T]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import random
-import time
+from collections.abc import Iterator
 from fractions import Fraction
 
 from tockbmc.explicit.engine import python_settings, ranges_dict
@@ -12,7 +12,7 @@ from tockbmc.model import ast
 from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.numbers import real_text
 from tockbmc.model.ranges import Ranges
-from tockbmc.model.result import Proof, Result, TraceStep, Verdict
+from tockbmc.model.result import TraceStep
 
 
 def pick(project: ast.Project, name: str | None) -> ast.StateMachine | ast.Controller | ast.Module:
@@ -38,44 +38,53 @@ WINDOWS = {"core_int": (Fraction(-2), Fraction(2)), "core_nat": (Fraction(0), Fr
            "core_real": (Fraction(-2), Fraction(2)), "given": (Fraction(0), Fraction(2))}
 
 
-def run_random(project: ast.Project, name: str | None, steps: int, seed: int, ranges: Ranges,
-               settings: dict[str, ast.Expr]) -> Result:
-    """Take up to `steps` random steps from a random initial configuration.
+class RandomRun:
+    """A random run of up to `steps` steps from a random initial configuration, its steps drawn one
+    at a time as they are iterated (a long run is streamed: memory stays flat), then `why` it ended.
 
     Values are drawn as the run needs them (`Sampler`), so that the run takes memory and time in
     proportion to its steps, whatever the number of values the element could take.
     """
-    start = time.perf_counter()
-    element = pick(project, name)
-    rng = random.Random(seed)
-    sampler = Sampler(rng, WINDOWS)
-    interp = Interpreter(element, ranges_dict(ranges), python_settings(settings), sampler=sampler)
-    trace = []
-    initial = interp.initial()
-    if not initial:
-        steps = 0
-        why = f"{element.name} has no initial configuration: no choice of initial values fits their types"
-    else:
+
+    def __init__(self, project: ast.Project, name: str | None, steps: int, seed: int, ranges: Ranges,
+                 settings: dict[str, ast.Expr]) -> None:
+        self.element = pick(project, name)
+        self.steps, self.seed = steps, seed
+        self.rng = random.Random(seed)
+        self.sampler = Sampler(self.rng, WINDOWS)
+        self.interp = Interpreter(self.element, ranges_dict(ranges), python_settings(settings), sampler=self.sampler)
+        self.text = f"a random run of {self.element.name} (seed {seed})"
+        self.why = ""
+
+    def __iter__(self) -> Iterator[TraceStep]:
+        interp, rng, name = self.interp, self.rng, self.element.name
+        initial = interp.initial()
+        if not initial:
+            self.why = f"{name} has no initial configuration: no choice of initial values fits their types"
+            return
         config = rng.choice(initial)
-        why = f"{steps} steps taken"
-    for i in range(steps):
-        options = interp.steps(config)
-        if not options:
-            why = f"{element.name} has terminated" if interp.terminated(config) else \
-                f"{element.name} can do nothing more"
-            break
-        s = _pick(options, rng)
-        config = s.target
-        states = interp.states(config)
-        if s.kind == "internal" or s.event is None:
-            trace.append(TraceStep(i + 1, None, "internal", s.note, states, {}))
-        else:
-            trace.append(TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values))
-    windows = ", ".join(f"{n}={real_text(lo)}..{real_text(hi)}" for n, (lo, hi) in sorted(sampler.used.items()))
-    text = f"a random run of {element.name} (seed {seed}" + (f"; with no range given, {windows})" if windows else ")")
-    return Result(assertion=f"simulate {element.name}", text=text, verdict=Verdict.HOLDS, bound=None,
-                  ranges=ranges.describe(), seconds=time.perf_counter() - start, reason=why, trace=tuple(trace),
-                  proof=Proof.TRACE, engine="explicit")
+        self.why = f"{self.steps} steps taken"
+        for i in range(self.steps):
+            options = interp.steps(config)
+            if not options:
+                self.why = f"{name} has terminated" if interp.terminated(config) else f"{name} can do nothing more"
+                return
+            s = _pick(options, rng)
+            config = s.target
+            states = interp.states(config)
+            if s.kind == "internal" or s.event is None:
+                yield TraceStep(i + 1, None, "internal", s.note, states, {})
+            else:
+                yield TraceStep(i + 1, s.event.name, s.kind, "", states, {}, s.event.channel, s.event.values)
+
+    def windows(self) -> str:
+        """Where the values of types without a range were drawn from, if any were (`WINDOWS`)."""
+        return ", ".join(f"{n}={real_text(lo)}..{real_text(hi)}" for n, (lo, hi) in sorted(self.sampler.used.items()))
+
+    def end(self) -> str:
+        """How the run ended, after its steps, with the windows its values were drawn from."""
+        windows = self.windows()
+        return self.why + (f" (with no range given, values drawn from {windows})" if windows else "")
 
 
 def _pick(options: list[Step], rng: random.Random) -> Step:

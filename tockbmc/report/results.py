@@ -14,7 +14,7 @@ from rich.table import Table
 from rich.text import Text
 
 from tockbmc.model.diagnostics import Diagnostic
-from tockbmc.model.result import Result, Verdict
+from tockbmc.model.result import Result, TraceStep, Verdict
 
 VERDICT_STYLE = {Verdict.HOLDS: "green", Verdict.VIOLATED: "bold red", Verdict.UNKNOWN: "yellow",
                  Verdict.UNSUPPORTED: "magenta", Verdict.INTERRUPTED: "yellow"}
@@ -185,27 +185,32 @@ def print_trace(r: Result, console: Console) -> None:
 def _print_steps(trace: tuple, console: Console, refusals: dict[int, dict] | None = None) -> None:
     """The steps of a run; `refusals` (tick-tock) are the refusals observed before its tocks, by step."""
     for s in trace:
-        line = Text(f"  {s.step:>3}  ")
-        if s.kind == "internal":
-            line.append(f"τ  {s.note}", style="dim")
-        else:
-            line.append(s.event or "", style="bold")
-            if s.free:
-                fields = ", ".join(s.free) if any(s.free) else "its value"
-                line.append(f"  ({fields}: any value)", style="dim")
-        states = ", ".join(f"{m}: {st}" for m, st in s.states.items())
-        line.append(f"   [{states}]", style="cyan")
-        if s.changed:
-            line.append("   " + ", ".join(f"{k} = {v}" for k, v in s.changed.items()), style="yellow")
-        if s.source:
-            line.append(f"   @ {where(s.source)}", style="dim")
-        seen = (refusals or {}).get(s.step) if s.kind == "tock" else None
-        if seen is not None:
-            line.append(f"   refusing all but {{{', '.join(seen['offered'])}}} before it", style="magenta")
-            if seen.get("refused"):
-                line.append(f"; no stable state of the specification refuses {'; '.join(seen['refused'])}",
-                            style="magenta")
-        console.print(line)
+        print_step(s, console, refusals)
+
+
+def print_step(s: TraceStep, console: Console, refusals: dict[int, dict] | None = None) -> None:
+    """One step of a run, on a line of its own."""
+    line = Text(f"  {s.step:>3}  ")
+    if s.kind == "internal":
+        line.append(f"τ  {s.note}", style="dim")
+    else:
+        line.append(s.event or "", style="bold")
+        if s.free:
+            fields = ", ".join(s.free) if any(s.free) else "its value"
+            line.append(f"  ({fields}: any value)", style="dim")
+    states = ", ".join(f"{m}: {st}" for m, st in s.states.items())
+    line.append(f"   [{states}]", style="cyan")
+    if s.changed:
+        line.append("   " + ", ".join(f"{k} = {v}" for k, v in s.changed.items()), style="yellow")
+    if s.source:
+        line.append(f"   @ {where(s.source)}", style="dim")
+    seen = (refusals or {}).get(s.step) if s.kind == "tock" else None
+    if seen is not None:
+        line.append(f"   refusing all but {{{', '.join(seen['offered'])}}} before it", style="magenta")
+        if seen.get("refused"):
+            line.append(f"; no stable state of the specification refuses {'; '.join(seen['refused'])}",
+                        style="magenta")
+    console.print(line)
 
 
 def _print_end(r: Result, console: Console) -> None:
