@@ -12,6 +12,7 @@ import select
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -21,6 +22,7 @@ from conftest import COUNTER, EXAMPLE, run_cli, write_files
 from test_cli_robustness import SLOW, TOCKBMC
 
 from tockbmc import load
+from tockbmc.check import own_z3_context
 from tockbmc.launch import HOLD_IMPORT
 from tockbmc.model.config import configure
 from tockbmc.parallel import InProcess, InProcesses, Job, OnDask
@@ -249,11 +251,17 @@ class _Slow(Job):
     delay: float = 120.0
 
     def decide(self, index: int, progress: Any = None) -> Any:
-        time.sleep(self.delay)
+        if _TEST_OVER.wait(self.delay):  # given up in this process: nothing more may touch Z3 here
+            raise RuntimeError("the test that gave this check up is over")
         return super().decide(index, progress)
 
     def hard_limit(self) -> float | None:
         return 1.0
+
+
+# Set when a test that leaves a `_Slow` check behind in this process ends: the thread must not wake
+# up to solve in Z3's main context beside the tests after it (a Z3 context is not for two threads).
+_TEST_OVER = threading.Event()
 
 
 def test_a_worker_past_its_hard_limit_is_ended_and_its_assertion_is_unknown(tmp_path: Path) -> None:
@@ -277,7 +285,12 @@ def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: P
     project = load(counter_project(tmp_path))
     runner = InProcess([(_Slow(configure(project), bound=12, timeout=0.1), 0)])
     start = time.perf_counter()
-    decided = decide(runner, grace=0.2, overdue=runner.overdue)
+    _TEST_OVER.clear()
+    with own_z3_context():  # the interrupt of Z3 it makes stays in a context of its own
+        try:
+            decided = decide(runner, grace=0.2, overdue=runner.overdue)
+        finally:
+            _TEST_OVER.set()
     assert time.perf_counter() - start < 10
     assert decided.overran == 0 and decided.results == [] and not decided.worker_done
     assert runner.current is not None and runner.current[0] == 0
@@ -289,7 +302,9 @@ def test_a_result_that_comes_within_the_grace_is_kept(tmp_path: Path) -> None:
 
     project = load(counter_project(tmp_path))
     runner = InProcess([(_Slow(configure(project), bound=12, timeout=30, delay=1.4), 2)])
-    decided = decide(runner, grace=3.0, overdue=runner.overdue)
+    _TEST_OVER.clear()
+    with own_z3_context():  # the interrupt of Z3 at the hard limit stays in a context of its own
+        decided = decide(runner, grace=3.0, overdue=runner.overdue)
     assert decided.overran == 0 and decided.worker_done
     assert [(n, r.verdict) for n, r in decided.results] == [(0, "violated")]
 
