@@ -547,3 +547,26 @@ def test_an_instance_is_one_instance_whichever_element_it_is_named_from(tmp_path
     ]:
         out = run_cli(["check", str(tmp_path), *[x for v in settings for x in ("--set", v)]])
         assert out.exit_code == 2 and message in out.output, out.output
+
+
+def test_an_instantiation_line_nothing_reads_is_not_parsed_and_a_pathological_one_is_refused(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A definition of a name the model has nothing for is read for its name alone (it is warned about,
+    never parsed, however large); one the model would use, nested 40,000 deep, is refused with its
+    line before the parser recurses into it; the ranges around them are read as usual."""
+    import tockbmc.model.instantiation as inst
+
+    deep = "if true then " * 40_000 + "0" + " else 0" * 40_000
+    project = write_files(tmp_path, {"m.rct": (EXAMPLE / "intelliwelder.rct").read_text(),
+                                     "instantiations.csp": f"nametype core_int = {{-1..1}}\njunk = {deep}\n"
+                                                           f"const_EXAX_n_waypoints = {deep}\n"
+                                                           "nametype core_real = {-1..1}\n"})
+    parsed: list[str] = []
+    real_parse = inst._parse
+    monkeypatch.setattr(inst, "_parse", lambda text: parsed.append(text) or real_parse(text))
+    config = configure(tockbmc.load(project))
+    assert not any("if true" in text for text in parsed)
+    warnings = {(w.pos.line, w.message) for w in config.warnings if w.pos.path.endswith("instantiations.csp")}
+    assert (2, "'junk' is not a constant, type or function of the model, so it is not used") in warnings
+    assert (3, "this definition is nested more than 200 levels deep; it is ignored") in warnings
+    assert config.ranges().describe() == {"core_int": "-1..1", "core_real": "-1..1"}

@@ -25,8 +25,6 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from lark import Token, Tree
-
 from tockbmc.model import ast
 from tockbmc.model import instantiation as inst
 from tockbmc.model.diagnostics import Diagnostic, suggestion
@@ -944,16 +942,21 @@ class Configuration:
 
     def _read_instantiation(self, project: ast.Project) -> ast.Project:
         read: list[inst.Instantiation] = []
+        slots, functions, types = _instantiable(project)
+
+        def wanted(name: str) -> bool:  # a definition of anything else is not parsed (`inst.read`)
+            return name in CORE_TYPES or name in types or name in slots or name in functions
+
         path = inst.project_file(project.root)
         if path is not None:
             try:
-                found, text = inst.read_file(path)
+                found, text = inst.read_file(path, wanted)
             except OSError as exc:
                 self.warnings.append(Diagnostic(ast.Pos(str(path), 1, 1), f"cannot read: {exc}", "warning"))
             else:
                 read.append(found)
                 self.texts[str(path)] = text
-        read += [inst.read_block(b) for b in project.csp_blocks if inst.is_instantiation_block(b)]
+        read += [inst.read_block(b, wanted) for b in project.csp_blocks if inst.is_instantiation_block(b)]
         clauses: dict[str, list[inst.Definition]] = {}
         for i in read:
             self.warnings += i.problems
@@ -969,21 +972,7 @@ class Configuration:
         return self._interpret(project, clauses)
 
     def _interpret(self, project: ast.Project, clauses: dict[str, list[inst.Definition]]) -> ast.Project:
-        slots_by_name: dict[str, list[ast.Variable]] = defaultdict(list)
-        elements: list[Checked] = [*project.machines, *project.operations, *project.controllers, *project.modules]
-        for e in elements:
-            for s in robotool_slots(project, e):
-                for n in s.names:
-                    if not any(v is s.variable for v in slots_by_name[n]):
-                        slots_by_name[n].append(s.variable)
-        functions: dict[str, ast.Function] = {}
-        for f in project.functions:
-            functions.setdefault(inst.mangle(f.qname), f)
-        types: dict[str, ast.Type] = {}
-        for t in project.types:
-            if isinstance(t, (ast.GivenType, ast.EnumType, ast.RecordType)):
-                types.setdefault(inst.mangle(t.qname), t)
-                types.setdefault(t.name, t)
+        slots_by_name, functions, types = _instantiable(project)
         enums = [t for t in project.types if isinstance(t, ast.EnumType)]
         referenced = _referenced(clauses)
         helpers = {n: ds for n, ds in clauses.items() if n not in functions}
@@ -1069,18 +1058,29 @@ def _range_items(ranges: Ranges | Mapping[str, Range | None] | None) -> list[tup
 
 def _referenced(clauses: dict[str, list[inst.Definition]]) -> set[str]:
     """Names used in the bodies of the definitions (helpers such as `abs` are used this way)."""
-    out: set[str] = set()
-    for ds in clauses.values():
-        for d in ds:
-            nodes = [d.body, *(d.params or ())]
-            while nodes:
-                n = nodes.pop()
-                if isinstance(n, Token):
-                    if n.type == "NAME":
-                        out.add(str(n))
-                elif isinstance(n, Tree):
-                    nodes += n.children
-    return out
+    return {n for ds in clauses.values() for d in ds for part in (d.body, *(d.params or ())) for n in inst.names_in(part)}
+
+
+def _instantiable(project: ast.Project) -> tuple[dict[str, list[ast.Variable]], dict[str, ast.Function],
+                                                 dict[str, ast.Type]]:
+    """What an instantiation can give a value, by the name RoboTool gives it there: the constants
+    (each name's variables), the functions and the types."""
+    slots_by_name: dict[str, list[ast.Variable]] = defaultdict(list)
+    elements: list[Checked] = [*project.machines, *project.operations, *project.controllers, *project.modules]
+    for e in elements:
+        for s in robotool_slots(project, e):
+            for n in s.names:
+                if not any(v is s.variable for v in slots_by_name[n]):
+                    slots_by_name[n].append(s.variable)
+    functions: dict[str, ast.Function] = {}
+    for f in project.functions:
+        functions.setdefault(inst.mangle(f.qname), f)
+    types: dict[str, ast.Type] = {}
+    for t in project.types:
+        if isinstance(t, (ast.GivenType, ast.EnumType, ast.RecordType)):
+            types.setdefault(inst.mangle(t.qname), t)
+            types.setdefault(t.name, t)
+    return slots_by_name, functions, types
 
 
 def configure(project: ast.Project, ranges: Ranges | Mapping[str, Range | None] | None = None,

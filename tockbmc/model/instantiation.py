@@ -27,6 +27,7 @@ from lark import Lark, Token, Tree, UnexpectedInput
 from tockbmc.model import ast, grammars
 from tockbmc.model.csp import position as block_position
 from tockbmc.model.diagnostics import Diagnostic
+from tockbmc.model.limits import MAX_CSP_NESTING
 
 FILE_NAME = "instantiations.csp"
 BLOCK_NAME = "instantiations"  # a CSP block of an assertions file, compared without case
@@ -45,6 +46,7 @@ class Definition:
     pos: ast.Pos
     nametype: bool = False
     locate: Locate | None = dataclasses.field(default=None, compare=False, repr=False)
+    skipped: bool = False  # not parsed: nothing of the model reads it (`read`'s `wanted`); `body` is empty
 
     def at(self, node: Node) -> ast.Pos:
         """The file position of a part of this definition."""
@@ -90,16 +92,16 @@ def project_file(root: str | Path) -> Path | None:
     return None
 
 
-def read_file(path: Path) -> tuple[Instantiation, str]:
-    """The definitions of an instantiation file, and its text (for diagnostics)."""
+def read_file(path: Path, wanted: Callable[[str], bool] | None = None) -> tuple[Instantiation, str]:
+    """The definitions of an instantiation file, and its text (for diagnostics); see `read`."""
     text = path.read_text(encoding="utf-8-sig", errors="replace")
     name = str(path)
-    return read(text, name, lambda line, column: ast.Pos(name, line, column)), text
+    return read(text, name, lambda line, column: ast.Pos(name, line, column), wanted), text
 
 
-def read_block(block: ast.CspBlock) -> Instantiation:
-    """The definitions of an `Instantiations` CSP block of an assertions file."""
-    return read(block.text, block.pos.path, lambda line, column: block_position(block, line, column))
+def read_block(block: ast.CspBlock, wanted: Callable[[str], bool] | None = None) -> Instantiation:
+    """The definitions of an `Instantiations` CSP block of an assertions file; see `read`."""
+    return read(block.text, block.pos.path, lambda line, column: block_position(block, line, column), wanted)
 
 
 def is_instantiation_block(block: ast.CspBlock) -> bool:
@@ -111,22 +113,88 @@ _START = re.compile(r"^(nametype\s|[A-Za-z_][A-Za-z0-9_']*\s*(\([^=]*\))?\s*=[^=
 _MAX_MERGED = 40
 
 
-def read(text: str, path: str, locate: Locate) -> Instantiation:
+_NAME = re.compile(r"(nametype\s+)?([A-Za-z_][A-Za-z0-9_']*)")
+
+
+def read(text: str, path: str, locate: Locate, wanted: Callable[[str], bool] | None = None) -> Instantiation:
     """Parse CSPm definitions.  A part that does not parse is reported and skipped: the text is
     cut where definitions start a line, and each piece is parsed with as few of the following
-    ones as make it whole (a `let` spans several such lines)."""
-    try:
-        return Instantiation(path, tuple(_definitions(_parse(text), 0, locate)))
-    except UnexpectedInput:
-        pass
+    ones as make it whole (a `let` spans several such lines).
+
+    With `wanted`, a definition is parsed only if its name is wanted or a parsed definition's body
+    names it (a helper): the others are `skipped`, read for their name and position alone, so that
+    a line nothing reads costs nothing, however large. A wanted one nested past `MAX_CSP_NESTING`
+    is refused unparsed, with its line."""
+    if wanted is None:
+        try:
+            return Instantiation(path, tuple(_definitions(_parse(text), 0, locate)))
+        except UnexpectedInput:
+            pass
     starts = [m.start() for m in _START.finditer(text)] or [0]
     if starts[0] != 0:
         starts.insert(0, 0)
     starts.append(len(text))
+    if wanted is None:
+        return _read_pieces(text, path, locate, starts, None)
+    names = [_NAME.match(text, s) for s in starts[:-1]]
+    needed = {i for i, m in enumerate(names) if m is not None and wanted(m.group(2))}
+    while True:
+        read = _read_pieces(text, path, locate, starts, needed)
+        helpers = {n for d in read.definitions if not d.skipped for n in names_in(d.body)}
+        more = {i for i, m in enumerate(names) if m is not None and m.group(2) in helpers} - needed
+        if not more:
+            return read
+        needed |= more
+
+
+def names_in(node: Node) -> set[str]:
+    """The names a definition's part uses (a helper such as `abs` is used this way)."""
+    out: set[str] = set()
+    nodes = [node]
+    while nodes:
+        n = nodes.pop()
+        if isinstance(n, Token):
+            if n.type == "NAME":
+                out.add(str(n))
+        elif isinstance(n, Tree):
+            nodes += n.children
+    return out
+
+
+def _nesting(piece: str) -> int:
+    """A cheap upper bound on a piece's nesting: brackets open at once, and every `if` and `let`
+    (each may nest the rest), counted before the parser recurses into them."""
+    depth = deepest = 0
+    for c in piece:
+        if c in "([{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c in ")]}":
+            depth -= 1
+    return deepest + len(re.findall(r"\b(?:if|let)\b", piece))
+
+
+def _read_pieces(text: str, path: str, locate: Locate, starts: list[int], parse: set[int] | None) -> Instantiation:
+    """The definitions of the pieces `starts` cuts the text into: those in `parse` (all if None)
+    parsed, the others `skipped`."""
     definitions: list[Definition] = []
     problems: list[Diagnostic] = []
     i = 0
     while i < len(starts) - 1:
+        if parse is not None and i not in parse:
+            line = text.count("\n", 0, starts[i]) + 1
+            m = _NAME.match(text, starts[i])
+            if m is not None:
+                definitions.append(Definition(m.group(2), None, Tree("skipped", []),
+                                              locate(line, m.start(2) - starts[i] + 1), bool(m.group(1)), skipped=True))
+            i += 1
+            continue
+        if _nesting(text[starts[i]:starts[i + 1]]) > MAX_CSP_NESTING:
+            line = text.count("\n", 0, starts[i]) + 1
+            problems.append(Diagnostic(locate(line, 1), f"this definition is nested more than {MAX_CSP_NESTING} levels "
+                                       "deep; it is ignored", "warning"))
+            i += 1
+            continue
         for j in range(i + 1, min(len(starts), i + 1 + _MAX_MERGED)):
             piece = text[starts[i]:starts[j]]
             try:
