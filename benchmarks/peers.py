@@ -1,6 +1,6 @@
 """Spin beside tockbmc on the UR machine of the IntelliWelder example: A3 and A6.
 
-Run: python benchmarks/peers.py [--spin-timeout 120] [--spin-memory-mb 3072] [--rows 0 1 2 ...]
+Run: python benchmarks/peers.py [--spin-timeout 120] [--spin-memory-mb 3072] [--rows 0 1 2 ...] [--robotool]
      python benchmarks/peers.py --promela-only [--joints 2|6] [--dist 5] [--time 0..10] [--assertion A3]
 
 For each row (joints, distance range, time range) the script writes the UR machine as a Promela
@@ -625,10 +625,11 @@ class TockbmcResult:
     peak_mb: float
 
 
-def tockbmc_check(joints: int, assertion: str, ranges: list[str], timeout: float) -> TockbmcResult:
+def tockbmc_check(joints: int, assertion: str, ranges: list[str], timeout: float, options: tuple[str, ...] = ()
+                  ) -> TockbmcResult:
     """`tockbmc check -a ASSERTION --format json` on the `joints`-joint example, as a process of its own."""
     cmd = [sys.executable, "-c", "from tockbmc.cli import main; main()", "check", str(EXAMPLES[joints]),
-           "-a", assertion, "--format", "json", *(a for r in ranges for a in ("--range", r))]
+           "-a", assertion, "--format", "json", *(a for r in ranges for a in ("--range", r)), *options]
     with tempfile.TemporaryDirectory(prefix="tockbmc-peers-") as tmp:
         run = measured(cmd, Path(tmp), timeout)
     if run.returncode is None:
@@ -682,6 +683,9 @@ def main() -> None:
     parser.add_argument("--spin-timeout", type=float, default=120.0, help="seconds per Spin search")
     parser.add_argument("--spin-memory-mb", type=int, default=3072, help="pan's -DMEMLIM")
     parser.add_argument("--tockbmc-timeout", type=float, default=300.0)
+    parser.add_argument("--robotool", action="store_true",
+                        help="check with tockbmc's --robotool (FDR's finite check: reals as integers, as in the "
+                             "Promela model; the portfolio races the explicit engine there)")
     args = parser.parse_args()
     if args.promela_only:
         lo, hi = (int(x) for x in args.time.split(".."))
@@ -691,7 +695,8 @@ def main() -> None:
         sys.exit("needs spin and gcc on PATH (Debian: apt-get install -y spin gcc)")
     rows = [ROWS[i] for i in args.rows] if args.rows else ROWS
     print(f"Spin: BFS, -DMEMLIM={args.spin_memory_mb}, {args.spin_timeout:.0f} s per search; "
-          f"n_waypoints 0..{args.waypoints} in Spin, unbounded in tockbmc; times are wall seconds")
+          f"n_waypoints 0..{args.waypoints} in Spin, unbounded in tockbmc; times are wall seconds"
+          + ("; tockbmc with --robotool" if args.robotool else ""))
     head = (f"{'model and ranges':30} {'':3} {'Spin':>14} {'s (search)':>15} {'MB rep/RSS':>11} {'states (nominal)':>22}"
             f"   {'tockbmc':>16} {'s (check)':>14} {'MB':>5} {'Spin/tockbmc':>12}")
     print(head)
@@ -703,7 +708,8 @@ def main() -> None:
             else:
                 text = promela(row.joints, Ranges(row.dist, row.time, args.waypoints), name)
                 s = spin(text, args.spin_timeout, args.spin_memory_mb)
-            t = tockbmc_check(row.joints, name, row.tockbmc_ranges(), args.tockbmc_timeout)
+            t = tockbmc_check(row.joints, name, row.tockbmc_ranges(), args.tockbmc_timeout,
+                              ("--robotool",) if args.robotool else ())
             verdict = t.verdict + (" (k-ind.)" if t.proof == "k-induction" else " (PDR)" if t.proof == "invariant" else "")
             if s is None:
                 spin_part = f"{'n/a: unbounded':>14} {'':>15} {'':>11} {'':>22}"
