@@ -252,3 +252,22 @@ def test_a_tree_whose_folders_vanish_while_read_is_no_internal_error() -> None:
     result = run_cli(["show", "/proc"])
     assert result.crash is None and result.exit_code == 3, result.output
     assert "no .rct or .assertions files found" in result.stderr
+
+
+@pytest.mark.parametrize(("sig", "status", "line"), [(signal.SIGINT, 130, "tockbmc: interrupted\n"),
+                                                      (signal.SIGTERM, 143, "tockbmc: terminated (SIGTERM)\n")])
+def test_a_signal_ends_a_long_random_run_with_its_own_status_and_one_line(sig: int, status: int, line: str) -> None:
+    """simulate, streaming a run of 10^8 steps: Ctrl-C and SIGTERM each end it with their own status
+    and line (click, left to it, would take SIGTERM for Ctrl-C and print a blank line first)."""
+    p = subprocess.Popen([*TOCKBMC, "simulate", str(EXAMPLE), "--steps", "100000000"], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    try:
+        assert p.stdout is not None
+        p.stdout.readline()
+        p.stdout.readline()  # the event waited for: the run's first step printed
+        p.send_signal(sig)
+        _rest, err = p.communicate(timeout=60)
+    finally:
+        p.kill()
+        p.wait()
+    assert (p.returncode, err) == (status, line)

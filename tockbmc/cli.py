@@ -490,6 +490,8 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
             for step in run:  # each as it is taken: a long run streams, in flat memory
                 print_step(step, console)
             console.print(Text(f"  → {run.end()}", style="bold"))
+    except KeyboardInterrupt as exc:  # here, not in click, which would take SIGTERM for Ctrl-C
+        _exit_interrupted(signum=signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Unbounded as exc:
         raise click.UsageError(f"simulate needs finite data: {_range_hint(exc, config)}") from None
     except NotInterpretable as exc:
@@ -543,8 +545,8 @@ def _run() -> None:
     except click.ClickException as exc:
         exc.show()
         sys.exit(exc.exit_code)
-    except click.Abort:  # click turns KeyboardInterrupt into Abort
-        _exit_interrupted()
+    except click.Abort as exc:  # click turns KeyboardInterrupt (and so SIGTERM's `Terminated`) into Abort
+        _exit_interrupted(signum=signal.SIGTERM if isinstance(exc.__cause__, Terminated) else signal.SIGINT)
     sys.exit(status if isinstance(status, int) else 0)
 
 
