@@ -570,3 +570,31 @@ def test_an_instantiation_line_nothing_reads_is_not_parsed_and_a_pathological_on
     assert (2, "'junk' is not a constant, type or function of the model, so it is not used") in warnings
     assert (3, "this definition is nested more than 200 levels deep; it is ignored") in warnings
     assert config.ranges().describe() == {"core_int": "-1..1", "core_real": "-1..1"}
+
+
+def test_a_helper_in_the_instantiation_file_serves_a_function_defined_in_a_block(tmp_path: Path) -> None:
+    """What to parse is decided over the file and the blocks together: `h`, named by the block's `f`
+    alone, is read from the file, and f is interpreted (`f(0)` is 1, so `one` is entered)."""
+    project = write_files(tmp_path, {
+        "m.rct": "function f(n : int) : int { }\nstm M {\n  var x : int = 0\n  initial i\n  state s {}\n"
+                 "  state one {}\n  transition t0 { from i to s action x = f(0) }\n"
+                 "  transition t1 { from s to one condition x == 1 }\n}\n",
+        "instantiations.csp": "h(n) = n + 1\n",
+        "m.assertions": "csp Instantiations csp-begin\nf(n) = h(n)\ncsp-end\nassertion One: one is reachable in M.\n"})
+    config = configure(tockbmc.load(project))
+    assert not [w for w in config.warnings if "h" in w.message.split("'")], config.warnings
+    [r] = check(config.project, bound=10, config=config)
+    assert r.verdict == "holds", r.reason
+
+
+@pytest.mark.parametrize("body", [" + ".join(["(if n == 0 then 0 else 0)"] * 250),
+                                  "".join(f"if n == {k} then 0 else " for k in range(250)) + "0"])
+def test_an_instantiation_body_long_but_shallow_is_read(tmp_path: Path, body: str) -> None:
+    """Two hundred and fifty `if`s side by side, or one after another's `else`, are not nested 250 deep."""
+    project = write_files(tmp_path, {"m.rct": "function f(n : int) : int { }\nstm M { initial i state s {} "
+                                              "transition t { from i to s } }\n",
+                                     "instantiations.csp": f"f(n) = {body}\n"})
+    config = configure(tockbmc.load(project))
+    assert not [w for w in config.warnings if "nested" in w.message], config.warnings
+    [f] = config.project.functions
+    assert f.definition is not None

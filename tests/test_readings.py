@@ -552,3 +552,31 @@ def test_the_open_reading_chooses_only_what_a_functions_contract_allows(tmp_path
     expected = {"Neg": "holds", "Small": "holds", "Any": "violated"}
     assert verdicts(bmc) == expected, [r.reason for r in bmc.values()]
     assert verdicts(explicit) == expected, [r.reason for r in explicit.values()]
+
+
+NO_VALUE_ALLOWED = """\
+function f(n : int) : int {
+  postcondition result > 10
+}
+function g(n : int) : boolean { }
+stm M {
+  initial i
+  state s0 {}
+  state s1 {}
+  state target {}
+  transition t0 { from i to s0 }
+  transition t1 { from s0 to target condition g(0) }
+  transition t2 { from s0 to s1 condition not g(0) }
+  transition t3 { from s1 to target condition f(0) == 0 }
+}
+"""
+
+
+def test_a_point_where_no_value_meets_the_contract_is_no_way_to_the_target(tmp_path: Path) -> None:
+    """Within core_int=-2..2 no value of f(0) meets `result > 10`: that branch reaches nothing, and with
+    g(0) false no run enters target (f(0) = 11, say): the witness stands for some functions only."""
+    write_files(tmp_path, {"m.rct": NO_VALUE_ALLOWED, "m.assertions": "assertion T: target is reachable in M.\n"})
+    config = configure(tockbmc.load(tmp_path), Ranges({"core_int": Range(Fraction(-2), Fraction(2))}),
+                       reading=Reading.OPEN)
+    [r] = check_explicit(config.project, None, 8, config.ranges(), {}, 60, 100_000, config=config)
+    assert r.verdict == "unknown", r.reason

@@ -23,7 +23,9 @@ def _stop(signum: int, _frame: FrameType | None) -> None:
 
 def main() -> None:
     """Console entry point: `cli.main`, imported under handlers that end tockbmc at once."""
-    previous = {s: signal.signal(s, _stop) for s in (signal.SIGINT, signal.SIGTERM)}
+    # A signal tockbmc was started ignoring (`cmd &` in a script ignores Ctrl-C) stays ignored.
+    previous = {s: signal.signal(s, _stop) for s in (signal.SIGINT, signal.SIGTERM)
+                if signal.getsignal(s) is not signal.SIG_IGN}
     hold = os.environ.get(HOLD_IMPORT)
     if hold:
         with open(hold, "w"):

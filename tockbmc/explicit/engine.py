@@ -398,9 +398,9 @@ class Search:
                 raise _OutOfBudget
             self.check_time()
             unfolded = self.interp.unfold(config)
-            if isinstance(unfolded, Split):
+            if isinstance(unfolded, Split):  # no value the contract allows: no function gets here, no win
                 ways = (wins(part, mon, left) for part in unfolded.parts)
-                shown = all(ways) if unfolded.point else any(ways)
+                shown = bool(unfolded.parts) and all(ways) if unfolded.point else any(ways)
             else:
                 self.raw.setdefault(config, (config, unfolded))
                 succ = self.steps(node)
@@ -418,8 +418,8 @@ class Search:
                 first = self.monitor.after(first, e)
         try:
             shown = any(wins(c, first, self.bound) for c in self.interp.initial_configs())
-        except (_OutOfBudget, RecursionError, TimeoutError):
-            return False
+        except (_OutOfBudget, RecursionError, TimeoutError, NotInterpretable, Unbounded):
+            return False  # a part of the game the search did not reach may be out of reach of the interpreter
         if shown:
             self.every_choice = witness
         return shown
@@ -1204,7 +1204,8 @@ def _decide(a: ast.Assertion, q: Query, search: Search, result: Callable[..., Re
         hit = search.run(entered)
         if hit is not None:
             trace = search.trace(hit[0])
-            search.for_every_choice(hit[0], lambda key, succ: entered(key, succ) is not None)
+            if not negated:  # a violation found with one function is a violation
+                search.for_every_choice(hit[0], lambda key, succ: entered(key, succ) is not None)
             return result(Verdict.VIOLATED if negated else Verdict.HOLDS, f"state {state} is entered", trace)
         if negated:
             return done(f"state {state} is never entered")

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import re
 from collections import defaultdict
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -941,22 +941,19 @@ class Configuration:
     # --- the instantiation
 
     def _read_instantiation(self, project: ast.Project) -> ast.Project:
-        read: list[inst.Instantiation] = []
         slots, functions, types = _instantiable(project)
+        helpers: set[str] = set()  # named by a definition read, in the file or a block: read wherever defined
 
         def wanted(name: str) -> bool:  # a definition of anything else is not parsed (`inst.read`)
-            return name in CORE_TYPES or name in types or name in slots or name in functions
+            return name in CORE_TYPES or name in types or name in slots or name in functions or name in helpers
 
-        path = inst.project_file(project.root)
-        if path is not None:
-            try:
-                found, text = inst.read_file(path, wanted)
-            except OSError as exc:
-                self.warnings.append(Diagnostic(ast.Pos(str(path), 1, 1), f"cannot read: {exc}", "warning"))
-            else:
-                read.append(found)
-                self.texts[str(path)] = text
-        read += [inst.read_block(b, wanted) for b in project.csp_blocks if inst.is_instantiation_block(b)]
+        while True:
+            read, warnings = self._instantiations(project, wanted)
+            named = {n for i in read for d in i.definitions if not d.skipped for n in inst.names_in(d.body)}
+            if not {d.name for i in read for d in i.definitions if d.skipped} & (named - helpers):
+                break
+            helpers |= named
+        self.warnings += warnings
         clauses: dict[str, list[inst.Definition]] = {}
         for i in read:
             self.warnings += i.problems
@@ -970,6 +967,24 @@ class Configuration:
                                                     "this definition is the one used", "warning"))
                 clauses[name] = ds
         return self._interpret(project, clauses)
+
+    def _instantiations(self, project: ast.Project, wanted: Callable[[str], bool]
+                        ) -> tuple[list[inst.Instantiation], list[Diagnostic]]:
+        """The project's instantiation file and `Instantiations` blocks, read (`inst.read`), with the
+        warnings of a file that cannot be read."""
+        read: list[inst.Instantiation] = []
+        warnings: list[Diagnostic] = []
+        path = inst.project_file(project.root)
+        if path is not None:
+            try:
+                found, text = inst.read_file(path, wanted)
+            except OSError as exc:
+                warnings.append(Diagnostic(ast.Pos(str(path), 1, 1), f"cannot read: {exc}", "warning"))
+            else:
+                read.append(found)
+                self.texts[str(path)] = text
+        read += [inst.read_block(b, wanted) for b in project.csp_blocks if inst.is_instantiation_block(b)]
+        return read, warnings
 
     def _interpret(self, project: ast.Project, clauses: dict[str, list[inst.Definition]]) -> ast.Project:
         slots_by_name, functions, types = _instantiable(project)

@@ -162,16 +162,13 @@ def names_in(node: Node) -> set[str]:
 
 
 def _nesting(piece: str) -> int:
-    """A cheap upper bound on a piece's nesting: brackets open at once, and every `if` and `let`
-    (each may nest the rest), counted before the parser recurses into them."""
+    """A cheap bound on how deep a piece nests, counted before the parser recurses into it: open
+    brackets, plus the `if`s whose `else` has not come yet and the `let`s whose `within` has not."""
     depth = deepest = 0
-    for c in piece:
-        if c in "([{":
-            depth += 1
-            deepest = max(deepest, depth)
-        elif c in ")]}":
-            depth -= 1
-    return deepest + len(re.findall(r"\b(?:if|let)\b", piece))
+    for token in re.findall(r"[()\[\]{}]|\b(?:if|else|let|within)\b", piece):
+        depth += 1 if token in ("(", "[", "{", "if", "let") else -1
+        deepest = max(deepest, depth)
+    return deepest
 
 
 def _read_pieces(text: str, path: str, locate: Locate, starts: list[int], parse: set[int] | None) -> Instantiation:
@@ -189,14 +186,14 @@ def _read_pieces(text: str, path: str, locate: Locate, starts: list[int], parse:
                                               locate(line, m.start(2) - starts[i] + 1), bool(m.group(1)), skipped=True))
             i += 1
             continue
-        if _nesting(text[starts[i]:starts[i + 1]]) > MAX_CSP_NESTING:
-            line = text.count("\n", 0, starts[i]) + 1
-            problems.append(Diagnostic(locate(line, 1), f"this definition is nested more than {MAX_CSP_NESTING} levels "
-                                       "deep; it is ignored", "warning"))
-            i += 1
-            continue
         for j in range(i + 1, min(len(starts), i + 1 + _MAX_MERGED)):
             piece = text[starts[i]:starts[j]]
+            if _nesting(piece) > MAX_CSP_NESTING:
+                line = text.count("\n", 0, starts[i]) + 1
+                problems.append(Diagnostic(locate(line, 1), f"this definition is nested more than {MAX_CSP_NESTING} "
+                                           "levels deep; it is ignored", "warning"))
+                i = j
+                break
             try:
                 tree = _parse(piece)
             except UnexpectedInput:

@@ -17,20 +17,20 @@ from pathlib import Path
 POLL = 0.2  # seconds between looks
 
 
-def _alive(pid: int) -> bool:
+def _started(pid: int) -> str | None:
+    """When process `pid` started (clock ticks since boot: `/proc`'s field 22), None if it is gone or
+    a zombie; "" where there is no `/proc` (then whether a process of that number exists)."""
     try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     except FileNotFoundError:
-        return False
-    except (OSError, IndexError):  # no /proc here: whether a process of that number exists
+        return None
+    except (OSError, IndexError):
         try:
             os.kill(pid, 0)
-        except ProcessLookupError:
-            return False
-        except PermissionError:  # another user's process has the number now: the owner is gone
-            return False
-        return True
-    return state not in ("Z", "X")
+        except (ProcessLookupError, PermissionError):  # PermissionError: another user's process has the number
+            return None
+        return ""
+    return None if fields[0] in ("Z", "X") else fields[19]
 
 
 def end_with(owner: int | None = None) -> None:
@@ -41,8 +41,10 @@ def end_with(owner: int | None = None) -> None:
         def gone() -> bool:
             return os.getppid() != parent
     else:
+        started = _started(owner)  # a later process given the same number is not the owner
+
         def gone() -> bool:
-            return not _alive(owner)
+            return started is None or _started(owner) != started
 
     def watch() -> None:
         while not gone():
