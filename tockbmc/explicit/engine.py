@@ -370,9 +370,11 @@ class Search:
         return tuple(self.interp.points_chosen)
 
     def for_every_choice(self, witness: Hashable, target: Callable[[Hashable, list[Edge]], bool]) -> bool:
-        """Whether, whatever the open functions compute, some run of at most `bound` visible steps
-        reaches a node where `target` holds; if so, `witness` (such a node, found for the values the
-        search chose) stands for every choice, and `points_rested_on` says so.
+        """Whether, whatever the open functions compute, some run reaches a node where `target`
+        holds; if so, `witness` (such a node, found for the values the search chose) stands for
+        every choice, and `points_rested_on` says so. The game looks `bound` visible steps ahead of
+        each node first tried (a node once won stays won, however it is reached again: the claim
+        is that the target is reached, not within how many steps).
 
         A game over the lazily chosen values: where a step reads an open function at a point not
         chosen yet, every value its contract allows must lead on to a target (the function is any
