@@ -72,7 +72,18 @@ def _load(paths: tuple[str, ...], fmt: str = "text") -> Project:
     return project
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Commands(click.Group):
+    """The commands, each with Ctrl-C and SIGTERM taken as interruptions here: left to click, they
+    become its `Abort`, after a blank line on stderr, and SIGTERM would pass for Ctrl-C."""
+
+    def invoke(self, ctx: click.Context) -> object:
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt as exc:
+            _exit_interrupted(signum=signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="tockbmc")
 def cli() -> None:
     """Bounded model checking of RoboChart models against RoboTool assertions."""
@@ -490,8 +501,6 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
             for step in run:  # each as it is taken: a long run streams, in flat memory
                 print_step(step, console)
             console.print(Text(f"  → {run.end()}", style="bold"))
-    except KeyboardInterrupt as exc:  # here, not in click, which would take SIGTERM for Ctrl-C
-        _exit_interrupted(signum=signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Unbounded as exc:
         raise click.UsageError(f"simulate needs finite data: {_range_hint(exc, config)}") from None
     except NotInterpretable as exc:
