@@ -417,3 +417,20 @@ def test_a_helper_process_ends_when_its_owner_is_a_zombie_nobody_has_reaped() ->
         assert watcher.wait(timeout=90) == 0
     finally:
         owner.wait()
+
+
+STILL_DECIDING = """\
+import multiprocessing, time
+from tockbmc.parallel import _context, stop_servers
+child = _context().Process(target=time.sleep, args=(600,))
+child.start()
+stop_servers()  # as tockbmc's exit after Ctrl-C: the child is ended, not waited for
+print(child.is_alive())
+"""
+
+
+def test_the_exit_after_ctrl_c_ends_a_worker_still_deciding_rather_than_waiting_for_it() -> None:
+    """A worker started just as Ctrl-C came (after the workers were ended) is still deciding when
+    tockbmc exits: multiprocessing's exit work joins every child, which waited for its whole check."""
+    out = subprocess.run([sys.executable, "-c", STILL_DECIDING], capture_output=True, text=True, timeout=300)
+    assert out.stdout.strip() == "False", out.stderr

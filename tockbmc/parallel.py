@@ -233,6 +233,11 @@ def stop_servers() -> None:
     multiprocessing's own exit work (the finalizers of queues and semaphores still alive, such as a
     pool's left by an error) is done first: run after the resource tracker has ended, it found
     their semaphores already cleaned up and printed tracebacks (after a usage error of `check -j`)."""
+    # A worker still deciding (started just as Ctrl-C came, after the workers were ended) is ended
+    # here: multiprocessing's exit work joins every child, and would wait for its whole check.
+    for child in multiprocessing.active_children():
+        with contextlib.suppress(Exception):
+            child.kill()
     with contextlib.suppress(Exception):
         util._exit_function()  # type: ignore[attr-defined]  # noqa: SLF001 - idempotent; no public way
     for owner in (forkserver._forkserver, resource_tracker._resource_tracker):  # noqa: SLF001 - no public way
