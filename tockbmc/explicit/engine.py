@@ -285,12 +285,18 @@ class Search:
                 self.interp.strict.add(exc.channel)
                 self.reset()
 
+    def _first_monitor_state(self) -> int | None:
+        """The specification monitor's state as the element starts: after the events its context
+        puts before it (None without a specification)."""
+        if self.monitor is None:
+            return None
+        first = self.monitor.initial
+        for e in self.context.impl.head if self.context is not None else ():
+            first = self.monitor.after(first, e)
+        return first
+
     def _run(self, found: Callable[[Hashable, list[Edge]], str | None]) -> tuple[Hashable, str] | None:
-        first = None
-        if self.monitor is not None:
-            first = self.monitor.initial
-            for e in self.context.impl.head if self.context is not None else ():
-                first = self.monitor.after(first, e)
+        first = self._first_monitor_state()
         todo: deque[Hashable] = deque()
         for start in ((part, first) for c in self.interp.initial_configs() for part in self.parts(c)):
             self.check_time()
@@ -413,11 +419,7 @@ class Search:
                 won.add(node)
             return shown
 
-        first = None
-        if self.monitor is not None:
-            first = self.monitor.initial
-            for e in self.context.impl.head if self.context is not None else ():
-                first = self.monitor.after(first, e)
+        first = self._first_monitor_state()
         try:
             shown = any(wins(c, first, self.bound) for c in self.interp.initial_configs())
         except (_OutOfBudget, RecursionError, TimeoutError, NotInterpretable, Unbounded):

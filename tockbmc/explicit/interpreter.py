@@ -494,6 +494,12 @@ class Config:
         return f"Config(machines={self.machines!r}, store={self.store!r}, done={self.done!r})"
 
 
+def _with_slot(config: Config, slot: int, value: object) -> Config:
+    """`config` with one slot of its store holding `value`."""
+    store = config.store
+    return Config(config.machines, (*store[:slot], value, *store[slot + 1:]), config.done)
+
+
 # ----------------------------------------------------------------------------- value helpers
 
 
@@ -2599,9 +2605,8 @@ class Interpreter:
             name = self.slots[np.slot].display
             if name not in self.points_chosen:
                 self.points_chosen.append(name)
-            store, table = config.store, config.store[np.slot]
-            return Split(True, [Config(config.machines, (*store[:np.slot], (*table, (np.point, v)), *store[np.slot + 1:]),
-                                       config.done) for v in np.values()])
+            table = config.store[np.slot]
+            return Split(True, [_with_slot(config, np.slot, (*table, (np.point, v))) for v in np.values()])
 
     def points_in(self, config: Config) -> tuple[str, ...]:
         """The open functions whose value at some point `config` has chosen: on a run's last
@@ -2612,9 +2617,7 @@ class Interpreter:
         slot = next((s for s, v in enumerate(config.store) if _holds(v, u)), None)
         if slot is None:  # pragma: no cover - an Unknown read must be in the configuration or an input
             raise AssertionError(f"a step read {u!r}, which is neither in its configuration nor in an input")
-        store = config.store
-        return [Config(config.machines, (*store[:slot], _replace(store[slot], u, x), *store[slot + 1:]), config.done)
-                for x in u.values]
+        return [_with_slot(config, slot, _replace(config.store[slot], u, x)) for x in u.values]
 
     def concretize(self, path: list[tuple[Config, Step, Config]]) -> list[tuple[Step, tuple[str, ...]]]:
         """The steps of a run of concrete configurations along `path`, found by a lazy search, each

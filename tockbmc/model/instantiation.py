@@ -121,10 +121,11 @@ def read(text: str, path: str, locate: Locate, wanted: Callable[[str], bool] | N
     cut where definitions start a line, and each piece is parsed with as few of the following
     ones as make it whole (a `let` spans several such lines).
 
-    With `wanted`, a definition is parsed only if its name is wanted or a parsed definition's body
-    names it (a helper): the others are `skipped`, read for their name and position alone, so that
-    a line nothing reads costs nothing, however large. A wanted one nested past `MAX_CSP_NESTING`
-    is refused unparsed, with its line."""
+    With `wanted`, a definition is parsed only if its name is wanted (the caller wants the helpers
+    the parsed bodies name too: `config` asks again with them, over the file and its blocks): the
+    others are `skipped`, read for their name and position alone, so that a line nothing reads
+    costs nothing, however large. A piece nested past `MAX_CSP_NESTING` is refused unparsed, with
+    its line."""
     if wanted is None:
         try:
             return Instantiation(path, tuple(_definitions(_parse(text), 0, locate)))
@@ -137,14 +138,8 @@ def read(text: str, path: str, locate: Locate, wanted: Callable[[str], bool] | N
     if wanted is None:
         return _read_pieces(text, path, locate, starts, None)
     names = [_NAME.match(text, s) for s in starts[:-1]]
-    needed = {i for i, m in enumerate(names) if m is not None and wanted(m.group(2))}
-    while True:
-        read = _read_pieces(text, path, locate, starts, needed)
-        helpers = {n for d in read.definitions if not d.skipped for n in names_in(d.body)}
-        more = {i for i, m in enumerate(names) if m is not None and m.group(2) in helpers} - needed
-        if not more:
-            return read
-        needed |= more
+    return _read_pieces(text, path, locate, starts,
+                        {i for i, m in enumerate(names) if m is not None and wanted(m.group(2))})
 
 
 def names_in(node: Node) -> set[str]:
