@@ -382,7 +382,12 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
     """The constants an element's `D__` takes, named as RoboTool's instantiation names them:
     `const_` and the mangled path of the element that holds the constant, through instance names
     (`const_main_Controller_stm_ref1_n`), or the definition's own (`const_EXAX_n`); generators
-    of different versions use one or the other, so both are accepted, the path first."""
+    of different versions use one or the other, so both are accepted. Where an instantiation
+    gives both, the one the generator that writes such names passes comes first: the path where
+    the definition's name is its own (`const_GasAnalysis_thr`, RoboTool 3.0's generated CSP), the
+    definition's where it carries the definition's package
+    (`const_AutonomousChemicalDetector_GasAnalysis_GasAnalysis_thr`: that generator's module
+    process takes the definitions' constants; docs/robotool-evidence.md §6)."""
     out: list[_Slot] = []
 
     def names(prefixes: list[str], v: ast.Variable) -> tuple[str, ...]:
@@ -392,8 +397,9 @@ def robotool_slots(project: ast.Project, element: Checked) -> list[_Slot]:
         for v in constants_of(project, b):
             # a required interface's constant is its controller's (one per name), not the instance's
             shared = v.kind == "interface" and ast.in_interfaces(v, b.required_interfaces)
-            out.append(_Slot(v, names([*prefixes, inst.mangle(b.qname)], v), isinstance(b, ast.OperationDef),
-                             () if shared else instance))
+            own = inst.mangle(b.qname)
+            order = [own, *prefixes] if "::" in b.qname else [*prefixes, own]
+            out.append(_Slot(v, names(order, v), isinstance(b, ast.OperationDef), () if shared else instance))
 
     def controller(c: ast.Controller, prefixes: list[str], instance: tuple[str, ...] = ()) -> None:
         ps = [*prefixes, inst.mangle(c.qname)]
@@ -989,9 +995,10 @@ class Configuration:
     def _interpret(self, project: ast.Project, clauses: dict[str, list[inst.Definition]]) -> ast.Project:
         slots_by_name, functions, types = _instantiable(project)
         enums = [t for t in project.types if isinstance(t, ast.EnumType)]
+        records = [t for t in project.types if isinstance(t, ast.RecordType)]
         referenced = _referenced(clauses)
         helpers = {n: ds for n, ds in clauses.items() if n not in functions}
-        body = inst.FunctionBody(functions, helpers, enums)
+        body = inst.FunctionBody(functions, helpers, enums, records)
         defined: dict[int, ast.Function] = {}
         for name, ds in clauses.items():
             d = ds[-1]

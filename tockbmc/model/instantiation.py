@@ -21,10 +21,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 from pathlib import Path
+from typing import NamedTuple
 
 from lark import Lark, Token, Tree, UnexpectedInput
 
-from tockbmc.model import ast, grammars
+from tockbmc.model import ast, expressions, grammars
 from tockbmc.model.csp import position as block_position
 from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.limits import MAX_CSP_NESTING
@@ -344,51 +345,96 @@ _OPS = {"and_": "and", "or_": "or"}
 # operator and how many operands come before the type argument.
 _BOUNDED_ARITHMETIC = {"Plus": ("+", 2), "Minus": ("-", 2), "Mult": ("*", 2), "Div": ("/", 2),
                        "Modulus": ("%", 2), "Neg": ("neg", 1)}
-_MAX_INLINE = 16
+# How many calls deep a body is unfolded (a recursive function over a sequence: about one call per
+# item), and the most expression nodes an unfolded body may have; past either, the function is
+# undefined there, so any value (its precondition says where).
+UNFOLD_DEPTHS = (8, 6, 4, 3, 2)
+MAX_BODY_NODES = 6_000
+
+
+class _Built(NamedTuple):
+    """A CSPm expression as a model expression, and when evaluating it gets stuck (None: never).
+
+    It gets stuck where no clause of a function matches its arguments (CSPm's evaluation error) and
+    where calls nest deeper than the unfolding goes. `expr` is None where it always does; elsewhere
+    it is the value wherever it does not (what it is where it does is never used)."""
+
+    expr: ast.Expr | None
+    stuck: ast.Expr | None
+
+
+@dataclass(frozen=True)
+class _Local:
+    """A function of the instantiation, or of a `let`, to unfold where it is called: its clauses
+    and the names they see (for a `let`'s, those of the `let`, its own functions included)."""
+
+    name: str
+    clauses: tuple[Definition, ...]
+    scope: dict[str, object]
+
+
+_STUCK: _Built = _Built(None, None)
 
 
 class FunctionBody:
     """Turns the clauses of an instantiation function into the model function's definition.
 
-    Understood: parameters bound by name or matched against enumeration literals and numbers,
-    numbers, booleans, enumeration literals, arithmetic, comparisons, `and`/`or`/`not`,
-    `if … then … else`, `let` of values, and calls of the model's functions or of other
-    (non-recursive) functions of the instantiation, which are inlined.
+    Understood: parameters bound by name or matched against patterns (enumeration literals, numbers,
+    `true`/`false`, `<>`, `<x, y>`, `<x>^s`, `s^<x>`), numbers, booleans, enumeration literals, a
+    record's fields read as RoboTool writes them (`pkg_Rec_field(r)`), arithmetic, comparisons (of
+    given types' values too, numbers in RoboTool's instance), `and`/`or`/`not`, `if … then … else`,
+    `#s`, `s ^ t`, `let` of values and of functions, and calls of the model's functions or of the
+    instantiation's own functions, recursive ones included. A call of the instantiation's functions
+    is unfolded (CSPm evaluates it the same way), up to `UNFOLD_DEPTHS` calls deep: the function is
+    defined where its evaluation ends within that depth, and anything (docs/semantics.md §6.4) where
+    it does not or where no clause matches; its precondition says which.
     """
 
     def __init__(self, functions: dict[str, ast.Function], helpers: dict[str, list[Definition]],
-                 enums: list[ast.EnumType]):
+                 enums: list[ast.EnumType], records: list[ast.RecordType] | None = None):
         self.functions = functions  # RoboTool name -> model function
-        self.helpers = helpers  # other definitions of the instantiation, by name
+        self.helpers = {name: _Local(name, tuple(ds), {}) for name, ds in helpers.items()}
         self.enums = enums
+        self.fields: dict[str, tuple[ast.RecordType, str]] = {}  # RoboTool's field reader -> record, field
+        for t in records or ():
+            for f in t.fields:
+                for prefix in (mangle(t.qname), t.name):
+                    self.fields.setdefault(f"{prefix}_{f.name}", (t, f.name))
+        self.depth_limit = UNFOLD_DEPTHS[0]
+        self.defining: tuple[str, _Local] | None = None
 
     def define(self, f: ast.Function, clauses: list[Definition]) -> ast.Function:
-        """`f` defined by its clauses: the first clause whose patterns match applies; where none
-        does (a function given only on some literals), the function is undefined, hence any value."""
-        branches: list[tuple[ast.Expr | None, ast.Expr]] = []
+        """`f` defined by its clauses: the first clause whose patterns match applies, unfolded as
+        deep as `UNFOLD_DEPTHS` allows; where none applies or the unfolding stops, the function is
+        undefined, hence any value (its precondition)."""
         for d in clauses:
-            params = d.params or ()
-            if len(params) != len(f.parameters):
+            if len(d.params or ()) != len(f.parameters):
                 raise NotUnderstood(d.pos, f"{f.name} takes {len(f.parameters)} argument(s), this clause "
-                                           f"{len(params)}")
-            env: dict[str, ast.Expr] = {}
-            conditions: list[ast.Expr] = []
-            for p, var in zip(params, f.parameters, strict=True):
-                ref = ast.VarRef(var.type, d.at(p), var)
-                if isinstance(p, Tree) and p.data == "name" and self._literal(str(p.children[0]), d.at(p)) is None:
-                    env[str(p.children[0])] = ref
-                else:
-                    conditions.append(_eq(ref, self.expr(d, p, {}, 0)))
-            body = self.expr(d, d.body, env, 0)
-            if not ast.assignable(f.result, body.type):
-                raise NotUnderstood(d.at(d.body), f"{f.name} returns {f.result}, this is {body.type}")
-            branches.append((_all(conditions) if conditions else None, body))
-        definition = branches[-1][1]
-        for condition, body in reversed(branches[:-1]):
-            definition = body if condition is None else ast.IfExpr(f.result, body.pos, condition, body, definition)
-        covered = None if any(c is None for c, _ in branches) else _any([c for c, _ in branches if c is not None])
-        return dataclasses.replace(f, definition=definition, preconditions=() if covered is None else (covered,),
-                                   postconditions=())
+                                           f"{len(d.params or ())}")
+        pos = clauses[0].pos
+        args = [_Built(ast.VarRef(p.type, pos, p), None) for p in f.parameters]
+        own = _Local(mangle(f.qname), tuple(clauses), {})
+        built = None
+        for depth in UNFOLD_DEPTHS:
+            self.depth_limit = depth
+            self.defining = (own.name, own)
+            try:
+                built = self._unfold(own, args, pos, 0)
+            finally:
+                self.defining = None
+            if built.expr is not None and _nodes(built.expr, MAX_BODY_NODES) + _nodes(built.stuck, MAX_BODY_NODES) \
+                    <= MAX_BODY_NODES:
+                break
+        assert built is not None
+        if built.expr is None:
+            raise NotUnderstood(pos, f"{f.name} gives no value within {self.depth_limit} nested calls")
+        if _nodes(built.expr, MAX_BODY_NODES) > MAX_BODY_NODES:
+            raise NotUnderstood(pos, f"{f.name} unfolds to more than {MAX_BODY_NODES} expression nodes")
+        body = built.expr
+        if not (ast.assignable(f.result, body.type) or _given_number(f.result, body.type)):
+            raise NotUnderstood(clauses[0].at(clauses[0].body), f"{f.name} returns {f.result}, this is {body.type}")
+        pre = () if built.stuck is None else (_not(built.stuck),)
+        return dataclasses.replace(f, definition=body, preconditions=pre, postconditions=())
 
     def _literal(self, name: str, pos: ast.Pos) -> ast.EnumLiteral | None:
         for t in self.enums:
@@ -397,131 +443,367 @@ class FunctionBody:
                 return dataclasses.replace(lit, pos=pos)
         return None
 
-    def expr(self, d: Definition, node: Node, env: dict[str, ast.Expr], depth: int) -> ast.Expr:
+    # --- calls
+
+    def _unfold(self, fn: _Local, args: list[_Built], pos: ast.Pos, depth: int) -> _Built:
+        """A call of `fn`: its clauses in order, each where its patterns match the arguments."""
+        if any(a.expr is None for a in args):
+            return _STUCK
+        if depth >= self.depth_limit:
+            return _STUCK
+        stuck = _any_of([a.stuck for a in args])
+        branches: list[tuple[ast.Expr | None, _Built]] = []
+        for d in fn.clauses:
+            params = d.params or ()
+            if len(params) != len(args):
+                raise NotUnderstood(pos, f"'{fn.name}' takes {len(params)} argument(s)")
+            scope = dict(fn.scope)
+            conditions: list[ast.Expr] = []
+            for p, a in zip(params, args, strict=True):
+                assert a.expr is not None
+                conditions += self._match(d, p, a.expr, scope)
+            body = self.expr(d, d.body, scope, depth + 1)
+            branches.append((_all_of(conditions), body))
+            if not conditions:
+                break  # later clauses are never reached
+        result = _STUCK  # no clause matches: CSPm's evaluation stops with an error
+        for condition, body in reversed(branches):
+            result = body if condition is None else self._if(_Built(condition, None), body, result, pos)
+        return _Built(result.expr, _or(stuck, result.stuck) if result.expr is not None else None)
+
+    def _match(self, d: Definition, p: Node, arg: ast.Expr, scope: dict[str, object]) -> list[ast.Expr]:
+        """The conditions under which `arg` matches pattern `p`, binding its names in `scope`."""
+        pos = d.at(p)
+        if isinstance(p, Tree) and p.data == "name" and self._literal(str(p.children[0]), pos) is None:
+            scope[str(p.children[0])] = _Built(arg, None)
+            return []
+        if isinstance(p, Tree) and p.data in ("sequence", "concat"):
+            if not isinstance(arg.type, ast.SeqType):
+                raise NotUnderstood(pos, f"a sequence pattern for a value of type {arg.type}")
+            return self._match_sequence(d, p, arg, scope)
+        value = self.expr(d, p, {}, 0)
+        if value.expr is None or value.stuck is not None:
+            raise NotUnderstood(pos, "a pattern tockbmc does not match")
+        return [_eq(arg, value.expr)]
+
+    def _match_sequence(self, d: Definition, p: Tree, arg: ast.Expr, scope: dict[str, object]) -> list[ast.Expr]:
+        pos = d.at(p)
+        t = arg.type
+        assert isinstance(t, ast.SeqType)
+
+        def count(seq: Tree) -> int:
+            return len(_kids(seq))
+
+        def items(seq: Tree, from_end: bool) -> list[ast.Expr]:
+            """Conditions for the items `<x, …>` of `seq` at the start (or the end) of `arg`."""
+            out: list[ast.Expr] = []
+            kids = _kids(seq)
+            for k, item in enumerate(kids):
+                if from_end:
+                    element = _builtin("last", t.element, pos, _drop_last(arg, len(kids) - 1 - k, t, pos))
+                else:
+                    element = _builtin("head", t.element, pos, _drop_first(arg, k, t, pos))
+                out += self._match(d, item, element, scope)
+            return out
+
+        size = _builtin("size", ast.NAT, pos, arg)
+        if p.data == "sequence":
+            n = count(p)
+            return [_compare("==", size, _number(n, pos)), *items(p, False)]
+        left, right = _kids(p)
+        if isinstance(left, Tree) and left.data == "sequence" and isinstance(right, Tree) and right.data == "name":
+            n = count(left)
+            return [_compare(">=", size, _number(n, pos)), *items(left, False),
+                    *self._match(d, right, _drop_first(arg, n, t, pos), scope)]
+        if isinstance(right, Tree) and right.data == "sequence" and isinstance(left, Tree) and left.data == "name":
+            n = count(right)
+            return [_compare(">=", size, _number(n, pos)), *items(right, True),
+                    *self._match(d, left, _drop_last(arg, n, t, pos), scope)]
+        raise NotUnderstood(pos, "a sequence pattern other than <…>, <…>^s or s^<…>")
+
+    def _call(self, d: Definition, name: str, args: list[_Built], scope: dict[str, object], pos: ast.Pos,
+              depth: int) -> _Built:
+        local = scope.get(name)
+        if isinstance(local, _Local):
+            return self._unfold(local, args, pos, depth)
+        if self.defining is not None and name == self.defining[0]:
+            return self._unfold(self.defining[1], args, pos, depth)
+        if name in self.functions:
+            f = self.functions[name]
+            if len(args) != len(f.parameters):
+                raise NotUnderstood(pos, f"{f.name} takes {len(f.parameters)} argument(s)")
+            return _strict(args, lambda xs: ast.Call(f.result, pos, f, tuple(xs)))
+        if name in self.fields and len(args) == 1:
+            record, field = self.fields[name]
+            [a] = args
+            if a.expr is not None and not ast.comparable(a.expr.type, record):
+                raise NotUnderstood(pos, f"'{name}' reads a {record.name}, this is {a.expr.type}")
+            ftype = next(f.type for f in record.fields if f.name == field)
+            return _strict(args, lambda xs: ast.FieldRef(ftype, pos, xs[0], field))
+        if name in self.helpers:
+            return self._unfold(self.helpers[name], args, pos, depth)
+        raise NotUnderstood(pos, f"'{name}' is neither a function of the model nor defined here")
+
+    # --- expressions
+
+    def expr(self, d: Definition, node: Node, scope: dict[str, object], depth: int) -> _Built:
         pos = d.at(node)
         if not isinstance(node, Tree):
             raise NotUnderstood(pos, "unexpected token")
         kind = node.data
         kids = [c for c in node.children if isinstance(c, (Tree, Token))]
         if kind == "number":
-            n = int(str(kids[0]))
-            return ast.Literal(ast.NAT, pos, n)
+            return _Built(_number(int(str(kids[0])), pos), None)
         if kind in ("true", "false"):
-            return ast.Literal(ast.BOOLEAN, pos, kind == "true")
+            return _Built(ast.Literal(ast.BOOLEAN, pos, kind == "true"), None)
         if kind == "name":
             name = str(kids[0])
-            if name in env:
-                return env[name]
+            bound = scope.get(name)
+            if isinstance(bound, _Built):
+                return bound
             lit = self._literal(name, pos)
             if lit is not None:
-                return lit
-            if name in self.helpers and self.helpers[name][0].params is None:
-                return self._inline(name, [], pos, depth)
+                return _Built(lit, None)
+            if name in self.helpers and self.helpers[name].clauses[0].params is None:
+                return self._unfold(self.helpers[name], [], pos, depth)
             raise NotUnderstood(pos, f"'{name}' is not a parameter, a literal or a value defined here")
         if kind == "negate":
-            operand = self.expr(d, kids[0], env, depth)
-            _numeric(operand, pos)
-            return ast.Unary(ast.INT if operand.type == ast.NAT else operand.type, pos, "-", operand)
+            [x] = [self.expr(d, kids[0], scope, depth)]
+            if x.expr is not None:
+                _numeric(x.expr, pos)
+            return _strict([x], lambda xs: ast.Unary(ast.INT if xs[0].type == ast.NAT else xs[0].type, pos, "-", xs[0]))
         if kind == "not_":
-            operand = self.expr(d, kids[0], env, depth)
-            _boolean(operand, pos)
-            return ast.Unary(ast.BOOLEAN, pos, "not", operand)
+            x = self.expr(d, kids[0], scope, depth)
+            if x.expr is not None:
+                _boolean(x.expr, pos)
+            return _strict([x], lambda xs: ast.Unary(ast.BOOLEAN, pos, "not", xs[0]))
         if kind in _OPS:
-            left, right = (self.expr(d, k, env, depth) for k in kids)
-            _boolean(left, pos)
-            _boolean(right, pos)
-            return ast.Binary(ast.BOOLEAN, pos, _OPS[kind], left, right)
+            operands = [self.expr(d, k, scope, depth) for k in kids]
+            for x in operands:
+                if x.expr is not None:
+                    _boolean(x.expr, pos)
+            return _strict(operands, lambda xs: ast.Binary(ast.BOOLEAN, pos, _OPS[kind], xs[0], xs[1]))
         if kind == "compare":
-            left, right = self.expr(d, kids[0], env, depth), self.expr(d, kids[2], env, depth)
+            left, right = self.expr(d, kids[0], scope, depth), self.expr(d, kids[2], scope, depth)
             op = str(kids[1].children[0]) if isinstance(kids[1], Tree) else str(kids[1])
-            if op in ("==", "!="):
-                if not ast.comparable(left.type, right.type):
-                    raise NotUnderstood(pos, f"cannot compare {left.type} with {right.type}")
-            else:
-                _numeric(left, pos)
-                _numeric(right, pos)
-            return ast.Binary(ast.BOOLEAN, pos, op, left, right)
+            return _strict([left, right], lambda xs: _compare(op, xs[0], xs[1]))
         if kind == "arith":
-            left, op, right = self.expr(d, kids[0], env, depth), str(kids[1]), self.expr(d, kids[2], env, depth)
-            _numeric(left, pos)
-            _numeric(right, pos)
-            rtype = ast.numeric_join(left.type, right.type)
-            if op in ("-", "/") and rtype == ast.NAT:
-                rtype = ast.INT if op == "-" else rtype
-            return ast.Binary(rtype, pos, op, left, right)
+            left, right = self.expr(d, kids[0], scope, depth), self.expr(d, kids[2], scope, depth)
+            return _strict([left, right], lambda xs: _arith(str(kids[1]), xs[0], xs[1], pos))
+        if kind == "length":
+            x = self.expr(d, kids[0], scope, depth)
+            if x.expr is not None and not isinstance(x.expr.type, (ast.SeqType, ast.SetType)):
+                raise NotUnderstood(pos, f"# of a value of type {x.expr.type}")
+            return _strict([x], lambda xs: _builtin("size", ast.NAT, pos, xs[0]))
+        if kind == "concat":
+            left, right = self.expr(d, kids[0], scope, depth), self.expr(d, kids[1], scope, depth)
+
+            def concat(xs: list[ast.Expr]) -> ast.Expr:
+                t = expressions.builtin_type("concat", [xs[0].type, xs[1].type])
+                if t is None:
+                    raise NotUnderstood(pos, f"^ of values of types {xs[0].type} and {xs[1].type}")
+                return ast.Builtin(t, pos, "concat", (xs[0], xs[1]))
+            return _strict([left, right], concat)
+        if kind == "sequence" and kids:
+            items = [self.expr(d, k, scope, depth) for k in kids]
+            return _strict(items, lambda xs: _sequence(xs, pos))
         if kind == "if_":
-            c, a, b = (self.expr(d, k, env, depth) for k in kids)
-            _boolean(c, pos)
-            if ast.is_numeric(a.type) and ast.is_numeric(b.type):
-                rtype = ast.numeric_join(a.type, b.type)
-            elif ast.comparable(a.type, b.type):
-                rtype = a.type
-            else:
-                raise NotUnderstood(pos, f"the branches of 'if' have types {a.type} and {b.type}")
-            return ast.IfExpr(rtype, pos, c, a, b)
+            c, a, b = (self.expr(d, k, scope, depth) for k in kids)
+            if c.expr is not None:
+                _boolean(c.expr, pos)
+            return self._if(c, a, b, pos)
         if kind == "let":
-            inner = dict(env)
+            inner: dict[str, object] = dict(scope)
+            local_clauses: dict[str, list[Definition]] = {}
             for local in kids[:-1]:
                 assert isinstance(local, Tree)
                 lname = str(local.children[0])
                 if len(local.children) == 3:
-                    raise NotUnderstood(d.at(local), f"'{lname}' is a local function; tockbmc inlines only values "
-                                                     "in a let")
-                inner[lname] = self.expr(d, local.children[-1], inner, depth)
+                    params = tuple(c for c in local.children[1].children if isinstance(c, (Tree, Token)))
+                    local_clauses.setdefault(lname, []).append(
+                        Definition(lname, params, local.children[-1], d.at(local), locate=d.locate))
+                else:
+                    inner[lname] = self.expr(d, local.children[-1], inner, depth)
+            for lname, ds in local_clauses.items():
+                inner[lname] = _Local(lname, tuple(ds), inner)  # its scope is the let's, itself included
             return self.expr(d, kids[-1], inner, depth)
         if kind == "apply":
             head, args = kids[0], kids[1:]
             if not (isinstance(head, Tree) and head.data == "name"):
                 raise NotUnderstood(pos, "only named functions are applied")
             name = str(head.children[0])
-            if name in _BOUNDED_ARITHMETIC and len(args) == _BOUNDED_ARITHMETIC[name][1] + 1:
+            if name in _BOUNDED_ARITHMETIC and len(args) == _BOUNDED_ARITHMETIC[name][1] + 1 and name not in scope:
                 # RoboTool's bounded arithmetic `Plus(a, b, core_nat)`: tockbmc's is exact
                 # (docs/semantics.md §6.5), so the type argument is dropped, as the helpers are.
-                operands = [self.expr(d, a, env, depth) for a in args[:-1]]
-                for x in operands:
-                    _numeric(x, pos)
+                operands = [self.expr(d, a, scope, depth) for a in args[:-1]]
                 op = _BOUNDED_ARITHMETIC[name][0]
                 if op == "neg":
-                    [x] = operands
-                    return ast.Unary(ast.INT if x.type == ast.NAT else x.type, pos, "-", x)
-                left, right = operands
-                rtype = ast.numeric_join(left.type, right.type)
-                if op == "-" and rtype == ast.NAT:
-                    rtype = ast.INT
-                return ast.Binary(rtype, pos, op, left, right)
-            values = [self.expr(d, a, env, depth) for a in args]
-            if name in self.functions:
-                f = self.functions[name]
-                if len(values) != len(f.parameters):
-                    raise NotUnderstood(pos, f"{f.name} takes {len(f.parameters)} argument(s)")
-                return ast.Call(f.result, pos, f, tuple(values))
-            if name in self.helpers:
-                return self._inline(name, values, pos, depth)
-            raise NotUnderstood(pos, f"'{name}' is neither a function of the model nor defined here")
+                    return self.expr(d, Tree("negate", [args[0]], meta=node.meta), scope, depth)
+                return _strict(operands, lambda xs: _arith(op, xs[0], xs[1], pos))
+            return self._call(d, name, [self.expr(d, a, scope, depth) for a in args], scope, pos, depth)
         raise NotUnderstood(pos, f"{_describe(kind)} cannot be a function body tockbmc runs")
 
-    def _inline(self, name: str, args: list[ast.Expr], pos: ast.Pos, depth: int) -> ast.Expr:
-        if depth >= _MAX_INLINE:
-            raise NotUnderstood(pos, f"'{name}' is recursive (or nested too deeply) to be inlined")
-        clauses = self.helpers[name]
-        if len(clauses) != 1:
-            raise NotUnderstood(pos, f"'{name}' is defined by {len(clauses)} clauses; only one is inlined")
-        d = clauses[0]
-        params = d.params or ()
-        if len(params) != len(args):
-            raise NotUnderstood(pos, f"'{name}' takes {len(params)} argument(s)")
-        env: dict[str, ast.Expr] = {}
-        for p, a in zip(params, args, strict=True):
-            if not (isinstance(p, Tree) and p.data == "name"):
-                raise NotUnderstood(d.at(p), f"'{name}' matches its arguments against patterns; tockbmc inlines "
-                                             "functions with plain parameters")
-            env[str(p.children[0])] = a
-        return self.expr(d, d.body, env, depth + 1)
+    def _if(self, c: _Built, a: _Built, b: _Built, pos: ast.Pos) -> _Built:
+        """`if c then a else b`: stuck where `c` is, or where the branch taken is."""
+        if c.expr is None or (a.expr is None and b.expr is None):
+            return _STUCK
+        if a.expr is None:  # wherever c holds it is stuck, so the value is b's
+            return _Built(b.expr, _or(c.stuck, _or(c.expr, b.stuck)))
+        if b.expr is None:
+            return _Built(a.expr, _or(c.stuck, _or(_not(c.expr), a.stuck)))
+        rtype = _join(a.expr.type, b.expr.type)
+        if rtype is None:
+            raise NotUnderstood(pos, f"the branches of 'if' have types {a.expr.type} and {b.expr.type}")
+        stuck = _or(c.stuck, _or(_and(c.expr, a.stuck), _and(_not(c.expr), b.stuck)))
+        return _Built(ast.IfExpr(rtype, pos, c.expr, a.expr, b.expr), stuck)
 
 
-_DESCRIPTIONS = {"set": "a set", "interval": "a set", "comprehension": "a set", "sequence": "a sequence",
-                 "sequence_comprehension": "a sequence", "tuple": "a tuple", "concat": "a sequence",
-                 "length": "a sequence length", "dot": "a dotted (channel or datatype) value"}
+def _strict(operands: list[_Built], make: Callable[[list[ast.Expr]], ast.Expr]) -> _Built:
+    """An operation of these operands: stuck wherever one of them is."""
+    if any(x.expr is None for x in operands):
+        return _STUCK
+    return _Built(make([x.expr for x in operands]), _any_of([x.stuck for x in operands]))  # type: ignore[misc]
+
+
+def _number(n: int, pos: ast.Pos) -> ast.Expr:
+    return ast.Literal(ast.NAT, pos, n)
+
+
+def _builtin(op: str, t: ast.Type, pos: ast.Pos, *args: ast.Expr) -> ast.Expr:
+    return ast.Builtin(t, pos, op, args)
+
+
+def _kids(node: Tree) -> list[Node]:
+    return [c for c in node.children if isinstance(c, (Tree, Token))]
+
+
+def _drop_first(s: ast.Expr, n: int, t: ast.Type, pos: ast.Pos) -> ast.Expr:
+    for _ in range(n):
+        s = _builtin("tail", t, pos, s)
+    return s
+
+
+def _drop_last(s: ast.Expr, n: int, t: ast.Type, pos: ast.Pos) -> ast.Expr:
+    for _ in range(n):
+        s = _builtin("front", t, pos, s)
+    return s
+
+
+def _sequence(items: list[ast.Expr], pos: ast.Pos) -> ast.Expr:
+    t = items[0].type
+    for x in items[1:]:
+        joined = _join(t, x.type)
+        if joined is None:
+            raise NotUnderstood(pos, f"a sequence of values of types {t} and {x.type}")
+        t = joined
+    return ast.SeqLiteral(ast.SeqType(t), pos, tuple(items))
+
+
+def _given_number(a: ast.Type, b: ast.Type) -> bool:
+    """A given type's values are numbers in RoboTool's instance (`nametype Intensity = {0,1}`), and
+    integers in both of tockbmc's engines: an integer stands for one."""
+    return isinstance(a, ast.GivenType) and b in (ast.NAT, ast.INT)
+
+
+def _join(a: ast.Type, b: ast.Type) -> ast.Type | None:
+    """The type of a value that is either of these, or None."""
+    if ast.is_numeric(a) and ast.is_numeric(b):
+        return ast.numeric_join(a, b)
+    if _given_number(a, b):
+        return a
+    if _given_number(b, a):
+        return b
+    if ast.assignable(a, b):
+        return a
+    if ast.assignable(b, a):
+        return b
+    return None
+
+
+def _orderable(t: ast.Type) -> bool:
+    return ast.is_numeric(t) or isinstance(t, ast.GivenType)
+
+
+def _compare(op: str, left: ast.Expr, right: ast.Expr) -> ast.Expr:
+    pos = left.pos
+    if op in ("==", "!="):
+        if _join(left.type, right.type) is None:
+            raise NotUnderstood(pos, f"cannot compare {left.type} with {right.type}")
+    elif not (_orderable(left.type) and _orderable(right.type) and _join(left.type, right.type) is not None):
+        raise NotUnderstood(pos, f"cannot order {left.type} and {right.type}")
+    return ast.Binary(ast.BOOLEAN, pos, op, left, right)
+
+
+def _arith(op: str, left: ast.Expr, right: ast.Expr, pos: ast.Pos) -> ast.Expr:
+    _numeric(left, pos)
+    _numeric(right, pos)
+    rtype = ast.numeric_join(left.type, right.type)
+    if op == "-" and rtype == ast.NAT:
+        rtype = ast.INT
+    return ast.Binary(rtype, pos, op, left, right)
+
+
+_TRUE = ast.Literal(ast.BOOLEAN, ast.Pos("<instantiation>", 1, 1), True)
+
+
+def _not(e: ast.Expr) -> ast.Expr:
+    if isinstance(e, ast.Literal) and isinstance(e.value, bool):
+        return ast.Literal(ast.BOOLEAN, e.pos, not e.value)
+    return ast.Unary(ast.BOOLEAN, e.pos, "not", e)
+
+
+def _or(a: ast.Expr | None, b: ast.Expr | None) -> ast.Expr | None:
+    """Disjunction, where None is false."""
+    if a is None or b is None:
+        return b if a is None else a
+    if a is _TRUE or b is _TRUE:
+        return _TRUE
+    return ast.Binary(ast.BOOLEAN, a.pos, "or", a, b)
+
+
+def _and(a: ast.Expr, b: ast.Expr | None) -> ast.Expr | None:
+    """Conjunction of a condition with a stuck condition (None: false)."""
+    if b is None:
+        return None
+    if b is _TRUE:
+        return a
+    return ast.Binary(ast.BOOLEAN, a.pos, "and", a, b)
+
+
+def _any_of(cs: list[ast.Expr | None]) -> ast.Expr | None:
+    out = None
+    for c in cs:
+        out = _or(out, c)
+    return out
+
+
+def _all_of(cs: list[ast.Expr]) -> ast.Expr | None:
+    if not cs:
+        return None
+    out = cs[0]
+    for c in cs[1:]:
+        out = ast.Binary(ast.BOOLEAN, c.pos, "and", out, c)
+    return out
+
+
+def _nodes(e: ast.Expr | None, limit: int) -> int:
+    """How many nodes the expression tree has (shared parts counted each time), counting up to just past `limit`."""
+    if e is None:
+        return 0
+    count = 0
+    todo: list[object] = [e]
+    while todo and count <= limit:
+        x = todo.pop()
+        if isinstance(x, ast.Expr):
+            count += 1
+            todo += [getattr(x, f.name) for f in dataclasses.fields(x) if f.name not in ("type", "pos")]
+        elif isinstance(x, tuple):
+            todo += list(x)
+    return count
+
+
+_DESCRIPTIONS = {"set": "a set", "interval": "a set", "comprehension": "a set", "sequence": "an empty sequence",
+                 "sequence_comprehension": "a sequence", "tuple": "a tuple", "dot": "a dotted (channel or datatype) value"}
 
 
 def _describe(kind: str) -> str:
@@ -539,23 +821,9 @@ def _boolean(e: ast.Expr, pos: ast.Pos) -> None:
 
 
 def _eq(a: ast.Expr, b: ast.Expr) -> ast.Expr:
-    if not ast.comparable(a.type, b.type):
+    if _join(a.type, b.type) is None:
         raise NotUnderstood(b.pos, f"a pattern of type {b.type} for a parameter of type {a.type}")
     return ast.Binary(ast.BOOLEAN, b.pos, "==", a, b)
-
-
-def _all(cs: list[ast.Expr]) -> ast.Expr:
-    out = cs[0]
-    for c in cs[1:]:
-        out = ast.Binary(ast.BOOLEAN, c.pos, "and", out, c)
-    return out
-
-
-def _any(cs: list[ast.Expr]) -> ast.Expr:
-    out = cs[0]
-    for c in cs[1:]:
-        out = ast.Binary(ast.BOOLEAN, c.pos, "or", out, c)
-    return out
 
 
 # ----------------------------------------------------------------------------- the project
