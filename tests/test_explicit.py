@@ -20,7 +20,7 @@ from tockbmc.bmc.witness import initial_choices
 from tockbmc.check import check
 from tockbmc.cli import cli
 from tockbmc.encodings.values import Range, Ranges
-from tockbmc.explicit.engine import check_explicit, python_settings, ranges_dict
+from tockbmc.explicit.engine import check_explicit, python_settings
 from tockbmc.explicit.interpreter import Interpreter
 from tockbmc.explicit.replay import ReplayFailure, replay
 from tockbmc.properties.queries import query
@@ -122,7 +122,7 @@ def test_replay_rejects_a_trace_the_interpreter_cannot_follow() -> None:
     a = next(x for x in project.assertions if x.name == "A5")
     [r] = check(project, ["A5"], bound=12, ranges=REALISTIC)
     q = query(project, a)
-    interp = Interpreter(q.element, ranges_dict(REALISTIC), python_settings({}), dict(q.defined))
+    interp = Interpreter(q.element, REALISTIC, python_settings({}), dict(q.defined))
     steps = list(r.trace)
     i = next(k for k, s in enumerate(steps) if s.event == "EXAX::out_of_sync.out")
     steps[i] = dataclasses.replace(steps[i], event="EXAX::done.out", channel=("EXAX::done", "out"))

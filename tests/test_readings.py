@@ -22,6 +22,7 @@ from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.readings import Reading
 from tockbmc.model.result import Result
 from tockbmc.report.html import render_report
+from tockbmc.report.results import configuration
 
 SMALL = Ranges({"core_int": Range(Fraction(-3), Fraction(3))})
 
@@ -580,3 +581,111 @@ def test_a_point_where_no_value_meets_the_contract_is_no_way_to_the_target(tmp_p
                        reading=Reading.OPEN)
     [r] = check_explicit(config.project, None, 8, config.ranges(), {}, 60, 100_000, config=config)
     assert r.verdict == "unknown", r.reason
+
+
+# `get` supplies a sequence: `two` needs one of length 2, `three` one of length 3.
+SEQUENCE_INPUT = """\
+import sequence_toolkit::*
+interface I { event get : Seq(int) }
+stm M {
+  uses I
+  var s : Seq(int)
+  initial i
+  state w {}
+  state two {}
+  state three {}
+  transition t0 { from i to w }
+  transition t1 { from w to two trigger get?s condition size(s) == 2 }
+  transition t2 { from w to three trigger get?s condition size(s) == 3 }
+}
+"""
+SEQUENCE_ASSERTIONS = """\
+assertion Two: two is not reachable in M.
+assertion Three: three is not reachable in M.
+"""
+LSEQ_SOURCE = "RoboTool's LSeq(T,2) (docs/robotool-evidence.md §9.5)"
+
+
+def test_robotool_gives_a_sequence_input_lengths_up_to_two_in_both_engines(tmp_path: Path) -> None:
+    """With `--robotool` the input on `get` is RoboTool's `LSeq(int,2)`: a length-2 input reaches
+    `two` in both engines, no length-3 input exists, so `three` is never entered; each result
+    lists the default length with its source, and what FDR does with a longer computed sequence
+    as not reproduced."""
+    bmc, explicit = both(tmp_path, {"m.rct": SEQUENCE_INPUT, "m.assertions": SEQUENCE_ASSERTIONS}, Reading.ROBOTOOL,
+                         ranges=Ranges())
+    expected = {"Two": "violated", "Three": "holds"}
+    assert verdicts(bmc) == expected, [r.reason for r in bmc.values()]
+    assert verdicts(explicit) == expected, [r.reason for r in explicit.values()]
+    for results in (bmc, explicit):
+        inputs = [s.event for s in results["Two"].trace if (s.event or "").startswith("M::get.in.")]
+        assert len(inputs) == 1 and inputs[0].count(",") == 1, inputs  # `M::get.in.<a, b>`
+        for r in results.values():
+            assert r.ranges["sequence input length"] == "0..2"
+            assert r.sources["ranges"]["sequence input length"] == LSEQ_SOURCE
+            assert f"sequence input length=0..2 [{LSEQ_SOURCE}]" in configuration(r)
+            assert any("LSeq(T,2)" in n for n in r.not_reproduced)
+    page = render_report(list(bmc.values()), title="m", version="0")
+    assert "<code>sequence input length = 0..2</code> [RoboTool&#39;s LSeq(T,2) (docs/robotool-evidence.md §9.5)]" in page
+
+
+def test_a_range_on_a_sequence_inputs_path_wins_over_robotools_length(tmp_path: Path) -> None:
+    """`--range M::get=0..3` lets the input be of length 3: `three` is entered with `--robotool`, in
+    both engines, by a length-3 input."""
+    ranges = Ranges(by_path={"M::get": Range(Fraction(0), Fraction(3))})
+    bmc, explicit = both(tmp_path, {"m.rct": SEQUENCE_INPUT, "m.assertions": SEQUENCE_ASSERTIONS}, Reading.ROBOTOOL,
+                         ranges=ranges)
+    assert verdicts(bmc) == verdicts(explicit) == {"Two": "violated", "Three": "violated"}
+    for r in (bmc["Three"], explicit["Three"]):
+        assert r.ranges["M::get"] == "0..3" and r.sources["ranges"]["M::get"] == "--range"
+        assert [s.event.count(",") for s in r.trace if (s.event or "").startswith("M::get.in.")] == [2]
+
+
+def test_robotools_length_bounds_a_records_sequence_field_and_a_shared_sequence(tmp_path: Path) -> None:
+    """The default length bounds a sequence inside an input (a record's field, `M::get.items`) and
+    the environment's writes of a shared sequence variable (`R::set_EXT_v`), alike in both engines."""
+    record = SEQUENCE_INPUT.replace("interface I { event get : Seq(int) }",
+                                    "datatype Reading { items : Seq(boolean) n : nat }\n"
+                                    "interface I { event get : Reading }")
+    record = record.replace("var s : Seq(int)", "var s : Reading").replace("size(s)", "size(s.items)")
+    shared = """\
+import sequence_toolkit::*
+interface I { var v : Seq(boolean) }
+stm R {
+  requires I
+  initial i
+  state w {}
+  state two {}
+  state three {}
+  transition t0 { from i to w }
+  transition t1 { from w to two condition size(v) == 2 }
+  transition t2 { from w to three condition size(v) == 3 }
+}
+"""
+    for rct, name in ((record, "M"), (shared, "R")):
+        assertions = SEQUENCE_ASSERTIONS.replace(" M.", f" {name}.")
+        bmc, explicit = both(tmp_path / name, {"m.rct": rct, "m.assertions": assertions}, Reading.ROBOTOOL,
+                             ranges=Ranges())
+        assert verdicts(bmc) == verdicts(explicit) == {"Two": "violated", "Three": "holds"}, name
+        assert bmc["Three"].ranges["sequence input length"] == "0..2"
+
+
+def test_robotools_length_is_listed_only_where_the_element_has_a_sequence_input(tmp_path: Path) -> None:
+    """UNSET's `s : Seq(int)` is the machine's own variable, never supplied by the environment: no
+    result on it lists the default length."""
+    bmc, explicit = both(tmp_path, {"m.rct": UNSET, "m.assertions": UNSET_ASSERTIONS}, Reading.ROBOTOOL, ranges=Ranges())
+    for r in (*bmc.values(), *explicit.values()):
+        assert "sequence input length" not in r.ranges and "sequence input length" not in r.sources["ranges"]
+
+
+def test_the_default_reading_asks_for_the_length_of_a_sequence_input_by_its_path(tmp_path: Path) -> None:
+    """Without `--robotool` the input's length has no default: the explicit engine asks for a range
+    on `M::get`, and BMC, over unbounded lengths, enters `three`; no result lists a default length."""
+    write_files(tmp_path, {"m.rct": SEQUENCE_INPUT, "m.assertions": SEQUENCE_ASSERTIONS})
+    explicit = CliRunner().invoke(cli, ["check", str(tmp_path), "--engine", "explicit", "--range", "core_int=-2..2",
+                                        "-j", "1"])
+    assert explicit.exit_code == 2, explicit.output
+    assert "give a range for M::get (its length: --range M::get=LO..HI)" in explicit.output
+    bmc = CliRunner().invoke(cli, ["check", str(tmp_path), "--engine", "bmc", "--format", "json", "-j", "1"])
+    results = {r["assertion"]: r for r in json.loads(bmc.output)["results"]}
+    assert {n: r["verdict"] for n, r in results.items()} == {"Two": "violated", "Three": "violated"}
+    assert all("sequence input length" not in r["ranges"] for r in results.values())

@@ -214,7 +214,7 @@ def test_replay_looks_for_the_cycle_of_a_divergence(tmp_path: Path, monkeypatch:
     """Replay follows a divergence's visible steps and then needs a cycle of internal steps where
     they end (it used to accept any lasso whose visible steps it could follow)."""
     from tockbmc.explicit import replay
-    from tockbmc.explicit.engine import python_settings, ranges_dict
+    from tockbmc.explicit.engine import python_settings
     from tockbmc.explicit.interpreter import Interpreter
     from tockbmc.model.config import configure
     from tockbmc.properties.queries import query
@@ -224,7 +224,7 @@ def test_replay_looks_for_the_cycle_of_a_divergence(tmp_path: Path, monkeypatch:
         (tmp_path / "m.assertions").write_text("untimed assertion A: loop is divergence-free.\n")
         project = load(tmp_path)
         q = query(configure(project, Ranges()).project, project.assertions[0])
-        interp = Interpreter(q.element, ranges_dict(Ranges()), python_settings({}), dict(q.defined), timed=q.timed)
+        interp = Interpreter(q.element, Ranges(), python_settings({}), dict(q.defined), timed=q.timed)
         [first] = interp.initial({})
         return interp, first
 

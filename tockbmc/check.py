@@ -473,7 +473,7 @@ class _Check:
 def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callable[[tuple], list[tuple] | None]:
     """Every value of each of the element's channels within the ranges, by the interpreter, so that
     a specification that accepts any value (`c?x`) can still have its traces listed."""
-    from tockbmc.explicit.engine import channel_values, element_types, python_settings, ranges_dict
+    from tockbmc.explicit.engine import channel_values, element_types, python_settings
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable
 
     assert q.context is not None
@@ -489,7 +489,7 @@ def _values_of(q: Query, ranges: Ranges, consts: dict[str, ast.Expr]) -> Callabl
             return None  # the interpreter's listing might not be every value BMC's run can take
         if not made:  # the interpreter is built when a specification first asks
             try:
-                interp = Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined),
+                interp = Interpreter(q.element, ranges, python_settings(consts), dict(q.defined),
                                      timed=q.timed)
                 made.append(channel_values(interp, q.element, literals))
             except (NotInterpretable, Unsupported):
@@ -595,12 +595,12 @@ def _replayed(q: Query, ranges: Ranges, consts: dict[str, ast.Expr], follow: Cal
     """Run `follow` with an interpreter of the query's element: "yes", or "no: why" when the
     interpreter cannot run the model or gave up following the trace (`ReplayGaveUp`: a bound on
     the configurations it explores); `ReplayFailure`, where it could not follow it, passes through."""
-    from tockbmc.explicit.engine import python_settings, ranges_dict
+    from tockbmc.explicit.engine import python_settings
     from tockbmc.explicit.interpreter import Interpreter, NotInterpretable, Unbounded
     from tockbmc.explicit.replay import ReplayGaveUp
 
     try:
-        follow(Interpreter(q.element, ranges_dict(ranges), python_settings(consts), dict(q.defined), timed=q.timed))
+        follow(Interpreter(q.element, ranges, python_settings(consts), dict(q.defined), timed=q.timed))
     except (NotInterpretable, Unbounded, Unsupported) as exc:
         return f"no: {getattr(exc, 'what', None) or exc}"
     except ReplayGaveUp as exc:

@@ -600,7 +600,7 @@ class TransitionSystem:
             # event's type, within the range of its path (a sequence's length); a value another
             # machine sent is checked whole.
             known = stored([(incoming, e.event.type)]) if chosen is not None and e.event and e.event.type else {}
-            r = self.ranges.by_path.get(chosen) if chosen is not None else None
+            r = self.ranges.length((chosen,)) if chosen is not None else None
             enabled += fits(incoming, e.binds.type, known, math.floor(r.high) if r is not None else None)
         ev = self.evaluator(c, bound, guards=enabled, flags=flags)
         if incoming is not None and e.value is not None and e.kind == "in":

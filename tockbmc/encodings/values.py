@@ -392,10 +392,10 @@ UNROLLED_LENGTH = 16  # a sequence whose length range ends below this has its it
 
 def _container_domain(v: z3.ExprRef, t: ast.SeqType | ast.SetType, ranges: Ranges, path: str) -> list[z3.BoolRef]:
     """A sequence's or set's elements in their type's domain (a quantified constraint); a range
-    on the sequence's own path bounds its length."""
+    on the sequence's own path bounds its length, else the default length if any (`Ranges.length`)."""
     cs: list[z3.BoolRef] = []
     if isinstance(t, ast.SeqType):
-        r = ranges.by_path.get(path)
+        r = ranges.length((path,))
         if r is not None:
             cs += [z3.Length(v) >= _const(r.low, z3.IntSort()), z3.Length(v) <= _const(r.high, z3.IntSort())]
         if r is not None and r.high < UNROLLED_LENGTH:

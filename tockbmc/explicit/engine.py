@@ -67,11 +67,6 @@ REFUSAL_MODELS = (*FAILURES_MODELS, TICK_TOCK)  # the models whose checks read w
 LAZY_KINDS = ("refines", "equals", "terminates", "timelock-free", "reachable")
 
 
-def ranges_dict(ranges: Ranges) -> dict[str, tuple[Fraction, Fraction]]:
-    return {**{k: (r.low, r.high) for k, r in ranges.by_type.items()},
-            **{k: (r.low, r.high) for k, r in ranges.by_path.items()}}
-
-
 def python_settings(settings: dict[str, ast.Expr]) -> dict[str, object]:
     """Constant values as Python values (literals, enumeration literals, records of them)."""
 
@@ -598,7 +593,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
         consts = python_settings(setup.constants)
 
         def interpreter(lazy: bool) -> Interpreter:
-            return Interpreter(q.element, ranges_dict(setup.ranges), consts, dict(q.defined), lazy=lazy,
+            return Interpreter(q.element, setup.ranges, consts, dict(q.defined), lazy=lazy,
                                timed=q.timed)
 
         def starts() -> bool:
@@ -611,7 +606,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
                 return True
             spec = q.spec_element
             spec_setup = config.setup(a, spec.element, spec.settings)
-            spec_interp = Interpreter(spec.element, ranges_dict(spec_setup.ranges), python_settings(spec_setup.constants),
+            spec_interp = Interpreter(spec.element, spec_setup.ranges, python_settings(spec_setup.constants),
                                       dict(spec.defined), lazy=True, timed=q.timed)
             return next(iter(spec_interp.initial_configs()), None) is not None
 
@@ -685,7 +680,7 @@ def with_element_spec(q: Query, a: ast.Assertion, config: Configuration) -> Quer
     spec = q.spec_element
     setup = config.setup(a, spec.element, spec.settings)
     try:
-        interp = Interpreter(spec.element, ranges_dict(setup.ranges), python_settings(setup.constants),
+        interp = Interpreter(spec.element, setup.ranges, python_settings(setup.constants),
                              dict(spec.defined), timed=q.timed)
         literals = {v.text: v for v in q.context.sem.evaluator.literals.values()}
         owner = None if spec.impl.renames else (spec.element.name, q.element.name)  # renamed as RoboTool does
@@ -851,7 +846,7 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
                       reading=config.reading, defaults=setup.defaults)
 
     try:
-        interp = Interpreter(q.element, ranges_dict(setup.ranges), python_settings(setup.constants),
+        interp = Interpreter(q.element, setup.ranges, python_settings(setup.constants),
                              dict(q.defined), lazy=False, timed=q.timed)
         search = Search(interp, q, bound, max_states, deadline)
         channels = [Channel(prefix, arity) for prefix, arity in element_alphabet(q.element)] + [Channel(("tock",), 0)]

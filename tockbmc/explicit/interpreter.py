@@ -117,6 +117,7 @@ from tockbmc.model import ast
 from tockbmc.model.config import instance_key
 from tockbmc.model.data import Product, Variant, text_of
 from tockbmc.model.during import composite_during_problem
+from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.readings import default_value, given_initial
 from tockbmc.model.untimed import untimed
 
@@ -776,7 +777,7 @@ class Interpreter:
     """The steps of one machine, controller or module (docs/semantics.md §3–§5)."""
 
     def __init__(self, element: ast.StateMachine | ast.Controller | ast.Module,
-                 ranges: dict[str, tuple[Fraction, Fraction]] | None = None,
+                 ranges: Ranges | Mapping[str, object] | None = None,
                  settings: dict[str, object] | None = None,
                  defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None,
                  lazy: bool = False, timed: bool = True) -> None:
@@ -794,7 +795,10 @@ class Interpreter:
         self.strict: set[tuple] = set()
         self.points_chosen: list[str] = []  # the open functions whose values at a point `expand` chose
         self.ename = element.name
-        self.ranges = {k: _to_range(v) for k, v in (ranges or {}).items()}
+        # the ranges as a check gives them (or by name: `{"core_int": (-2, 2)}`), and by name as pairs of bounds
+        self.data_ranges = ranges if isinstance(ranges, Ranges) else \
+            Ranges.named({k: Range(*_to_range(v)) for k, v in (ranges or {}).items()})
+        self.ranges = {k: (r.low, r.high) for k, r in self.data_ranges.by_name().items()}
         self.settings = dict(settings or {})
         self.defined = dict(defined or {})
         self.stmts: list[ast.Stmt] = []
@@ -1371,10 +1375,10 @@ class Interpreter:
             if len(elements) > 12:
                 raise NotInterpretable(None, f"every value of {t}: 2^{len(elements)} sets")
             return [frozenset(c) for n in range(len(elements) + 1) for c in itertools.combinations(elements, n)]
-        r = next((self.ranges[p] for p in paths if p in self.ranges), None)
-        if r is None:
+        length = self.data_ranges.length(paths)
+        if length is None:
             raise Unbounded(str(t), paths[0] if paths else None, paths)
-        lo, hi = max(0, math.ceil(r[0])), math.floor(r[1])
+        lo, hi = max(0, math.ceil(length.low)), math.floor(length.high)
         if sum(len(elements) ** n for n in range(lo, hi + 1)) > MAX_COLLECTIONS:
             raise NotInterpretable(None, f"every value of {t} of length {lo}..{hi}: more than {MAX_COLLECTIONS}")
         return [tuple(c) for n in range(lo, hi + 1) for c in itertools.product(elements, repeat=n)]

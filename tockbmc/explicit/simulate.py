@@ -6,7 +6,7 @@ import random
 from collections.abc import Iterator
 from fractions import Fraction
 
-from tockbmc.explicit.engine import python_settings, ranges_dict
+from tockbmc.explicit.engine import python_settings
 from tockbmc.explicit.interpreter import Interpreter, Sampler, Step
 from tockbmc.model import ast
 from tockbmc.model.diagnostics import suggestion
@@ -52,7 +52,7 @@ class RandomRun:
         self.steps, self.seed = steps, seed
         self.rng = random.Random(seed)
         self.sampler = Sampler(self.rng, WINDOWS)
-        self.interp = Interpreter(self.element, ranges_dict(ranges), python_settings(settings), sampler=self.sampler)
+        self.interp = Interpreter(self.element, ranges, python_settings(settings), sampler=self.sampler)
         self.text = f"a random run of {self.element.name} (seed {seed})"
         self.why = ""
 

@@ -29,7 +29,7 @@ from tockbmc.model import ast
 from tockbmc.model import instantiation as inst
 from tockbmc.model.diagnostics import Diagnostic, suggestion
 from tockbmc.model.memory import read_before_sending
-from tockbmc.model.ranges import Range, Ranges, is_path
+from tockbmc.model.ranges import Range, Ranges, holds_sequence, is_path, supplied_sequence
 from tockbmc.model.readings import (
     Filled,
     Reading,
@@ -46,6 +46,12 @@ Checked = ast.StateMachine | ast.Controller | ast.Module | ast.OperationDef
 CORE_TYPES = {"core_int": ast.INT, "core_nat": ast.NAT, "core_real": ast.REAL}
 ROBOTOOL_RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2)), "core_nat": Range(Fraction(0), Fraction(2)),
                           "core_real": Range(Fraction(-2), Fraction(2))})
+# RoboTool's instance of `Seq(T)`, `LSeq(T,2)`: the sequences of length 0, 1 or 2, written into
+# the generated channel declarations (docs/robotool-evidence.md §9.5).  The length of a sequence
+# the environment supplies under `--robotool`, unless a range is on its path; listed with a result
+# as `SEQUENCE_LENGTH` where the element checked has such an input.
+ROBOTOOL_SEQUENCE_LENGTH = Range(Fraction(0), Fraction(2))
+SEQUENCE_LENGTH = "sequence input length"
 # RoboTool's own definitions in an instantiation, which tockbmc's semantics replaces: bounded
 # arithmetic (tockbmc's is exact, docs/semantics.md §6.5), strings, clocks (unbounded, §4.5).
 _ROBOTOOL_HELPERS = {"Plus", "Minus", "Mult", "Div", "Neg", "Modulus", "MinusNoNeg", "calc_type_min",
@@ -88,6 +94,7 @@ FLAG_RANGE = Source("--range")
 FLAG_SET = Source("--set")
 FLAG_PARAM = Source("--param")
 ROBOTOOL_DEFAULT = Source("RoboTool default")
+ROBOTOOL_LSEQ = Source("RoboTool's LSeq(T,2)", "(docs/robotool-evidence.md §9.5)")
 UNSET_PARAM = Source("no value given: a parameter")
 
 
@@ -721,6 +728,7 @@ class Configuration:
         # by the element's id, the element kept beside its slots so that the id is never another's
         # (an operation checked on its own is a view made per assertion: `ast.operation_machine`)
         self._slots: dict[int, tuple[Checked, list[_Slot]]] = {}
+        self._sequences: dict[int, tuple[Checked, bool]] = {}  # as `_slots`: whether it is supplied a sequence
         checked: list[Checked] = [*self.project.controllers, *self.project.modules]
         for e in checked:  # one instance given two values: a usage error
             self._by_instance_flags(e, robotool_slots(self.project, e))
@@ -738,7 +746,9 @@ class Configuration:
         """The ranges every assertion is checked with."""
         by_type = {k: e.range for k, e in self._ranges.items() if e.range is not None and not is_path(k)}
         by_path = {k: e.range for k, e in self._ranges.items() if e.range is not None and is_path(k)}
-        return Ranges(by_type, by_path, integral_reals=self.reading == Reading.ROBOTOOL)
+        robotool = self.reading == Reading.ROBOTOOL
+        return Ranges(by_type, by_path, integral_reals=robotool,
+                      sequence_length=ROBOTOOL_SEQUENCE_LENGTH if robotool else None)
 
     def range_sources(self) -> dict[str, str]:
         return {k: str(e.source) for k, e in self._ranges.items() if e.range is not None}
@@ -799,8 +809,19 @@ class Configuration:
             sources[shown] = str(entry.source)
         parameters = tuple(sorted(k for k, e in entries.items() if e.value is None and k in described))
         filled = self._filled_for(element)
-        return Setup(ranges, constants, ranges.describe(), described, self.range_sources(), sources, parameters,
+        described_ranges, range_sources = ranges.describe(), self.range_sources()
+        if ranges.sequence_length is not None and (self._supplied_sequence(element)
+                                                   or any(holds_sequence(declared[k].type) for k in parameters)):
+            described_ranges[SEQUENCE_LENGTH] = str(ranges.sequence_length)
+            range_sources[SEQUENCE_LENGTH] = str(ROBOTOOL_LSEQ)
+        return Setup(ranges, constants, described_ranges, described, range_sources, sources, parameters,
                      self.reading, {f.name: f.value for f in filled}, {f.name: f.source for f in filled})
+
+    def _supplied_sequence(self, element: Checked) -> bool:
+        """Whether the environment may supply `element` a sequence (`supplied_sequence`), once per element."""
+        if id(element) not in self._sequences:
+            self._sequences[id(element)] = (element, supplied_sequence(element))
+        return self._sequences[id(element)][1]
 
     def _filled_for(self, element: Checked) -> tuple[Filled, ...]:
         """What the reading filled in that `element` reaches (once per element: a walk of its parts)."""

@@ -53,6 +53,8 @@ ROBOTOOL_NOT_REPRODUCED = (
     "RoboTool's widening of core_int, core_nat and core_real by the values the model's own expressions take "
     "(calc_type_min/calc_type_max): the default ranges are used as they are",
     "real literals with a fraction (0.5): exact here, where FDR's reals are integers",
+    "a sequence the model computes is exact here at any length, where FDR stops with an error when one longer "
+    "than 2 goes through a channel or variable of RoboTool's type LSeq(T,2)",
     "RoboTool's clock count, which stops one past the largest value since(C) is compared with: exact here, which "
     "decides every comparison alike but can differ where since(C) is used as a value; a model that compares it "
     "with 10 or more, which FDR refuses (core_clock_type = {0..10}), is checked here",

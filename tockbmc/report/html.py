@@ -90,23 +90,28 @@ def sections(results: Sequence[Result]) -> list[Section]:
     return out
 
 
-def _scope(results: Sequence[Result]) -> tuple[int | None, dict[str, str], str, str]:
-    """The bound, ranges, engine and reading of the run (the same for every result that searched)."""
+def _scope(results: Sequence[Result]) -> tuple[int | None, dict[str, str], dict[str, str], str, str]:
+    """The bound, ranges (with their sources), engine and reading of the run: the same for every
+    result that searched, but for a range listed only with the results that rest on it (the
+    default length of a sequence input with `--robotool`), which is listed if one does."""
     searched = [r for r in results if r.bound is not None] or list(results)
     if not searched:
-        return None, {}, "", ""
+        return None, {}, {}, "", ""
     first = searched[0]
-    return first.bound, first.ranges, first.engine, first.reading
+    ranges = {k: v for r in searched for k, v in r.ranges.items()}
+    sources = {k: v for r in searched for k, v in r.sources.get("ranges", {}).items() if k in ranges}
+    return first.bound, ranges, sources, first.engine, first.reading
 
 
 def render_report(results: Sequence[Result], *, title: str, version: str) -> str:
     """The HTML page of a run's results; `title` names what was checked (the model's paths)."""
     env = Environment(loader=PackageLoader("tockbmc.report", "templates"), autoescape=select_autoescape(["html"]),
                       trim_blocks=True, lstrip_blocks=True)
-    bound, ranges, engine, reading = _scope(results)
+    bound, ranges, range_sources, engine, reading = _scope(results)
     counts = {k: n for k, n in summary(results).items() if n}
     return env.get_template("report.html").render(
-        title=title, version=version, bound=bound, ranges=ranges, engine=engine, counts=counts,
+        title=title, version=version, bound=bound, ranges=ranges, range_sources=range_sources, engine=engine,
+        counts=counts,
         reading=reading, reading_summary=Reading(reading).summary if reading else "",
         not_reproduced=Reading(reading).not_reproduced if reading else (),
         sections=sections(results), explicit=any("states" in r.extra for r in results))
