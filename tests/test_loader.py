@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLE, run_cli, write_files
+from conftest import EXAMPLE, run_cli, verdicts_are, write_files
 
 from tockbmc import ModelError, Project, load
 from tockbmc.model import ast
@@ -666,3 +666,104 @@ def test_warnings_are_printed_with_their_source_line(tmp_path: Path) -> None:
     err = result.stderr if hasattr(result, "stderr") else result.output
     assert "b.rct:1:8: warning: import of unknown package 'pp'" in err
     assert "import pp::*" in err and "^" in err
+
+
+# ------------------------------------------------------------------ (l) an empty trigger; calls through an interface
+
+EMPTY_TRIGGER = """\
+interface I { event e  event f }
+stm M {
+  uses I
+  var b : boolean = true
+  initial i
+  state S0 { }
+  state S1 { entry f }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S1 TRIGGER
+    condition b }
+  transition t2 { from S1 to S0 trigger e action b = false }
+}
+"""
+EMPTY_TRIGGER_ASSERTIONS = "assertion a1: S1 is reachable in M\nassertion a2: M is deadlock-free\n"
+
+
+def test_an_empty_trigger_is_no_trigger_with_a_warning(tmp_path: Path) -> None:
+    """Older RoboTool versions let `trigger` stand alone; the CSP RoboTool generated for such public
+    models takes the transition without an event, as if `trigger` were not written."""
+    older = load(write_files(tmp_path / "older", {"m.rct": EMPTY_TRIGGER.replace("TRIGGER", "trigger"),
+                                                  "m.assertions": EMPTY_TRIGGER_ASSERTIONS}))
+    [warning] = older.warnings
+    assert (Path(warning.pos.path).name, warning.pos.line, warning.pos.column) == ("m.rct", 9, 33)
+    assert warning.message == ("'trigger' with no event after it (an older RoboChart form) is read as no trigger; "
+                               "today's RoboTool requires an event here")
+    t1 = next(t for t in older.machines[0].transitions if t.name == "t1")
+    assert t1.trigger is None and isinstance(t1.condition, ast.VarRef)
+    plain = load(write_files(tmp_path / "plain", {"m.rct": EMPTY_TRIGGER.replace("TRIGGER", ""),
+                                                  "m.assertions": EMPTY_TRIGGER_ASSERTIONS}))
+    assert plain.warnings == ()
+    for project in (older, plain):
+        for results in verdicts_are(project, None, 8, {"a1": "holds", "a2": "violated"}):
+            # S1 is entered with no event, and after e (b false) S0 offers nothing but tock
+            assert [[s.event for s in r.trace if s.kind != "internal"] for r in results] == [
+                [], ["M::f.out", "M::e.in"]], project.files
+
+
+@pytest.mark.parametrize("after", ["", "#C", "<{1}", "action skip"])
+def test_an_empty_trigger_before_each_later_part_of_a_transition(tmp_path: Path, after: str) -> None:
+    model = ("stm M {\n  clock C\n  initial i\n  state S0 { }\n  transition t0 { from i to S0 }\n"
+             f"  transition t1 {{ from S0 to S0 trigger {after} }}\n}}\n")
+    [warning] = load(write_files(tmp_path, {"m.rct": model})).warnings
+    assert (warning.pos.line, warning.pos.column) == (6, 33)
+
+
+CALLS = """\
+interface IMove {
+  move(v : int)
+  stop()
+}
+interface I { event done }
+stm M {
+  requires IMove
+  uses I
+  initial i
+  state S0 { entry MOVE(1) exit STOP() }
+  state S1 { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to S1 action MOVE(2); done }
+}
+"""
+
+
+def _calls(directory: Path, move: str, stop: str) -> Project:
+    return load(write_files(directory, {"m.rct": CALLS.replace("MOVE", move).replace("STOP", stop),
+                                        "m.assertions": "assertion a1: S1 is reachable in M\n"}))
+
+
+def test_an_operation_called_through_its_interface_is_the_same_call(tmp_path: Path) -> None:
+    """RoboTool's `Call` takes a qualified name: `IMove::move(1)` calls the `move` that `IMove` declares."""
+    qualified = _calls(tmp_path / "qualified", "IMove::move", "IMove::stop")
+    plain = _calls(tmp_path / "plain", "move", "stop")
+    for project in (qualified, plain):
+        [move, stop] = next(i for i in project.interfaces if i.qname == "IMove").operations
+        s0 = project.machines[0].node("S0")
+        assert isinstance(s0.entry, ast.OperationCall) and s0.entry.operation is move
+        assert isinstance(s0.exit, ast.OperationCall) and s0.exit.operation is stop
+        for [result] in verdicts_are(project, None, 8, {"a1": "holds"}):
+            assert [s.event for s in result.trace if s.kind != "internal"] == [
+                "M::moveCall.1", "M::stopCall", "M::moveCall.2", "M::done.out"], project.files
+
+
+def test_a_qualified_call_names_an_interface_of_the_caller_and_one_of_its_operations(tmp_path: Path) -> None:
+    model = CALLS.replace("interface I {", "interface IOther { go() }\ninterface I {") \
+        .replace("MOVE(1)", "IMve::move(1)").replace("STOP()", "IMove::stp()").replace("MOVE(2)", "IOther::go()")
+    write_files(tmp_path, {"m.rct": model})
+    assert located(load_error(tmp_path)) == [
+        ("m.rct", 11, 20, "unknown operation 'IMve::move'; did you mean 'IMove::move'?"),
+        ("m.rct", 11, 39, "interface 'IMove' declares no operation 'stp'; did you mean 'stop'?"),
+        ("m.rct", 14, 40, "interface 'IOther' is not required, provided or used by M: require it to call 'go(…)'"),
+    ]
+    result = run_cli(["show", str(tmp_path)])
+    assert result.exit_code == 3
+    lines = result.output.splitlines()
+    source = next(i for i, line in enumerate(lines) if line.endswith("entry IMve::move(1) exit IMove::stp() }"))
+    assert lines[source + 1] == " " * lines[source].index("IMve") + "^~~~~~~~~~", result.output

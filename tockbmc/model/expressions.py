@@ -70,7 +70,8 @@ class Scope:
     events: dict[str, ast.Event] = field(default_factory=dict)
     clocks: dict[str, ast.Clock] = field(default_factory=dict)
     operations: dict[str, ast.OperationSig] = field(default_factory=dict)
-    # Looks up a global name among functions, enumerations, operations, types.
+    interfaces: set[str] = field(default_factory=set)  # qualified names of those it uses, provides or requires
+    # Looks up a global name among functions, enumerations, operations, interfaces, types.
     resolve_global: Callable[[str, str], object | None] = lambda name, kind: None
     global_names: Callable[[str], list[str]] = lambda kind: []
     states: dict[str, str] = field(default_factory=dict)  # name or path -> node path
@@ -918,22 +919,45 @@ class ExprChecker:
     def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         name = qname_text(node.children[0])
         args_nodes = node.children[1].children if len(node.children) > 1 else []
-        # A machine calls only what its interfaces declare: a defined operation
-        # reaches it through a required interface holding its signature.
-        op = self.scope.operations.get(name)
+        op = self._called(node.children[0], name)
         if op is None:
-            if isinstance(self.scope.resolve_global(name, "function"), ast.Function):
-                self.error(node.children[0], f"'{name}' is a function: use it in an expression")
-            elif self.scope.resolve_global(name, "operation") is not None:
-                self.error(node.children[0], f"operation '{name}' is not in scope: require an interface "
-                           f"that declares '{name}(…)'")
-            else:
-                self._unknown(node.children[0], "operation", name, list(self.scope.operations))
             for a in args_nodes:
                 self.expr(a)
             return ast.Skip(p)
         args = self._arguments(node, name, args_nodes, op.parameters)
         return ast.OperationCall(p, op, args)
+
+    def _called(self, node: Tree, name: str) -> ast.OperationSig | None:
+        """The operation a call names (None, reported, when there is none): `move`, or `IMove::move`
+        through an interface `IMove` of the caller's, as RoboTool's `Call` takes a qualified name.
+        Both give the interface's one signature, so the two calls are the same call."""
+        # A machine calls only what its interfaces declare: a defined operation
+        # reaches it through a required interface holding its signature.
+        iface_name, _, op_name = name.rpartition("::")
+        iface = self.scope.resolve_global(iface_name, "interface") if iface_name else None
+        if isinstance(iface, ast.Interface):
+            if iface.qname not in self.scope.interfaces:
+                self.error(node, f"interface '{iface_name}' is not required, provided or used by {self.scope.owner}: "
+                           f"require it to call '{op_name}(…)'")
+                return None
+            op = next((o for o in iface.operations if o.name == op_name), None)
+            if op is None:
+                self.error(node, f"interface '{iface_name}' declares no operation '{op_name}'"
+                           f"{suggestion(op_name, [o.name for o in iface.operations])}")
+            return op
+        op = self.scope.operations.get(name)
+        if op is not None:
+            return op
+        if isinstance(self.scope.resolve_global(name, "function"), ast.Function):
+            self.error(node, f"'{name}' is a function: use it in an expression")
+        elif self.scope.resolve_global(name, "operation") is not None:
+            self.error(node, f"operation '{name}' is not in scope: require an interface that declares '{name}(…)'")
+        else:
+            known = list(self.scope.operations)
+            if iface_name:  # an unknown interface: offer the calls through the caller's interfaces
+                known += [f"{o.owner.rsplit('::', 1)[-1]}::{o.name}" for o in self.scope.operations.values()]
+            self._unknown(node, "operation", name, known)
+        return None
 
 
 def _dims(t: ast.Type) -> tuple[int, ...] | None:

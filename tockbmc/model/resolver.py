@@ -247,6 +247,9 @@ class Resolver:
             if kind == "operation":
                 decl = self.table.lookup(scope, name, ("operation_def",))
                 return self.operation(decl) if decl else None
+            if kind == "interface":
+                decl = self.table.lookup(scope, name, ("interface",))
+                return self.interface(decl) if decl else None
             if kind == "enum_literal":
                 found = [t for t in self._visible_enums(scope) if name in t.literals]
                 return found[0] if len(found) == 1 else None
@@ -492,6 +495,7 @@ class Resolver:
         expr_scope.events = {e.name: e for e in events}
         expr_scope.clocks = {c.name: c for c in clocks}
         expr_scope.operations = {o.name: o for o in operations}
+        expr_scope.interfaces = {q for qs in relations.values() for q in qs}
 
         nodes: list[ast.Node] = []
         raw_nodes: list[tuple[Tree, str | None]] = []
@@ -602,6 +606,9 @@ class Resolver:
                 event, kind, var, value = checker.communication(item)
                 if event is not None:
                     trigger = ast.Trigger(event, kind, var, value)
+            elif item.data == "empty_trigger":
+                self.report(pos_of(path, item.children[0]), "'trigger' with no event after it (an older RoboChart "
+                            "form) is read as no trigger; today's RoboTool requires an event here", "warning")
             elif item.data == "probability":
                 self.error(path, item, "unsupported: probabilistic transitions")
             elif item.data == "clock_reset":
