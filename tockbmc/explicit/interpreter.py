@@ -105,6 +105,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import operator
 import random
 from collections import defaultdict
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -513,6 +514,12 @@ def _ediv(a: int, b: int) -> int:
     return a // b if b > 0 else -(a // -b)
 
 
+# Binary operators that are Python's own on the values the interpreter keeps.
+_BINARY: dict[str, Callable[[Any, Any], Any]] = {
+    "+": operator.add, "-": operator.sub, "*": operator.mul, "==": operator.eq, "!=": operator.ne,
+    "<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "iff": lambda a, b: bool(a) == bool(b)}
+
+
 def _coerce(t: ast.Type | None, v: object) -> object:
     """`v` as a value of type `t`: integers in real places become Fractions; dicts become Records."""
     if type(v) is Unknown:
@@ -784,6 +791,7 @@ class Interpreter:
         # RoboTool's untimed semantics (docs/semantics.md §7.11): the model as `model.untimed`
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
+        self._evaluate_by_type = self._evaluators()
         if not timed:
             element, defined = untimed(element, defined)
         self.element = element
@@ -1515,145 +1523,148 @@ class Interpreter:
         return v
 
     def _ev(self, ctx: _Ctx, e: ast.Expr) -> Any:
-        if isinstance(e, ast.Literal):
-            if isinstance(e.value, str):
-                raise NotInterpretable(e.pos, "strings")
-            return e.value
-        if isinstance(e, ast.VarRef):
-            v = self._get(ctx, e.variable)
-            return self._known(ctx, v) if self.lazy else v
-        if isinstance(e, ast.Binary):
-            op = e.op
-            if op == "and":
-                return bool(self._ev(ctx, e.left)) and bool(self._ev(ctx, e.right))
-            if op == "or":
-                return bool(self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
-            if op == "implies":
-                return (not self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
-            a = self._ev(ctx, e.left)
-            b = self._ev(ctx, e.right)
-            if op == "+":
-                return a + b
-            if op == "-":
-                return a - b
-            if op == "*":
-                return a * b
+        return self._evaluate_by_type.get(type(e), self._ev_other)(ctx, e)
+
+    def _evaluators(self) -> dict[type, Callable[[_Ctx, Any], Any]]:
+        """The evaluation of each kind of expression, by the expression's class (`_ev` dispatches
+        on it: a chain of isinstance tests cost a third of a large search)."""
+        return {ast.Literal: self._ev_literal, ast.VarRef: self._ev_var, ast.Binary: self._ev_binary,
+                ast.EnumLiteral: self._ev_enum, ast.FieldRef: self._ev_field, ast.Unary: self._ev_unary,
+                ast.IfExpr: self._ev_if, ast.RecordLiteral: self._ev_record, ast.Since: self._ev_since,
+                ast.SinceEntry: lambda ctx, e: ctx.get(self._since_slot(ctx, e)), ast.Call: self._ev_call,
+                ast.ResultRef: self._ev_result, ast.SeqLiteral: self._ev_seq, ast.SetLiteral: self._ev_set,
+                ast.TupleLiteral: self._ev_tuple, ast.Index: self._ev_index,
+                ast.Builtin: lambda ctx, e: self._builtin(e, [self._ev(ctx, a) for a in e.args]),
+                ast.Let: self._ev_let, ast.Quantifier: self._quantifier, ast.Lambda: self._closure,
+                ast.Apply: lambda ctx, e: self._apply(ctx, e, self._ev(ctx, e.function), [self._ev(ctx, a) for a in e.args]),
+                ast.SetComprehension: self._comprehension}
+
+    def _ev_other(self, ctx: _Ctx, e: ast.Expr) -> Any:
+        raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+
+    def _ev_literal(self, ctx: _Ctx, e: ast.Literal) -> Any:
+        if isinstance(e.value, str):
+            raise NotInterpretable(e.pos, "strings")
+        return e.value
+
+    def _ev_var(self, ctx: _Ctx, e: ast.VarRef) -> Any:
+        v = self._get(ctx, e.variable)
+        return self._known(ctx, v) if self.lazy else v
+
+    def _ev_binary(self, ctx: _Ctx, e: ast.Binary) -> Any:
+        op = e.op
+        if op == "and":
+            return bool(self._ev(ctx, e.left)) and bool(self._ev(ctx, e.right))
+        if op == "or":
+            return bool(self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
+        if op == "implies":
+            return (not self._ev(ctx, e.left)) or bool(self._ev(ctx, e.right))
+        a = self._ev(ctx, e.left)
+        b = self._ev(ctx, e.right)
+        simple = _BINARY.get(op)
+        if simple is not None:
             if op in ("==", "!=") and isinstance(a, (Closure, AnyFunction)):
                 raise NotInterpretable(e.pos, "equality of functions (equal at every point)")
-            if op == "==":
-                return a == b
-            if op == "!=":
-                return a != b
-            if op == "<":
-                return a < b
-            if op == "<=":
-                return a <= b
-            if op == ">":
-                return a > b
-            if op == ">=":
-                return a >= b
-            if op == "iff":
-                return bool(a) == bool(b)
-            if op in ("/", "%"):
-                if b == 0:
-                    raise NotInterpretable(e.pos, "division by zero")
-                real = e.type == ast.REAL or isinstance(a, Fraction) or isinstance(b, Fraction)
-                if op == "/":
-                    return Fraction(a) / Fraction(b) if real else _ediv(a, b)
-                if real:
-                    raise NotInterpretable(e.pos, "% on reals")
-                return a - b * _ediv(a, b)
-            raise NotInterpretable(e.pos, f"operator {op}")
-        if isinstance(e, ast.EnumLiteral):
-            if e.args:
-                ps = e.enum.parameters(e.literal)
-                return Variant((f"{e.enum.name}::{e.literal}",
-                                *(_coerce(pt, self._ev(ctx, a)) for pt, a in zip(ps, e.args, strict=True))))
-            return f"{e.enum.name}::{e.literal}"
-        if isinstance(e, ast.FieldRef):
-            r = self._eval_ref(ctx, e.record) if self.lazy else self._ev(ctx, e.record)
-            v = r.get(e.field_name) if isinstance(r, dict) else None
-            if v is None:
-                raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
-            return self._known(ctx, v) if self.lazy else v
-        if isinstance(e, ast.Unary):
-            v = self._ev(ctx, e.operand)
-            if e.op == "not":
-                return not v
-            if e.op == "-":
-                return -v
-            if e.op == "trunc":  # towards zero, as FDR's integer reals divide
-                return Fraction(math.trunc(v))
-            raise NotInterpretable(e.pos, f"operator {e.op}")
-        if isinstance(e, ast.IfExpr):
-            return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)
-        if isinstance(e, ast.RecordLiteral):
-            t = e.type
-            if ast.omits_fields(e):
-                raise NotInterpretable(e.pos, "a record literal omitting fields, other than as an initial value")
-            return _coerce(t, Record({n: self._ev(ctx, x) for n, x in e.fields}))
-        if isinstance(e, ast.Since):
-            return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
-        if isinstance(e, ast.SinceEntry):
-            return ctx.get(self._since_slot(ctx, e))
-        if isinstance(e, ast.Call):
-            f = e.function
-            if f.unchecked:
-                raise NotInterpretable(e.pos, ast.unchecked_function(f))
-            table = self._slot_of.get(("fun", f.qname))
-            if f.definition is None and table is None:
-                raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
-            args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
-            saved = ctx.bind
-            ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
-            try:
-                inside = all(self._ev(ctx, pre) is True for pre in f.preconditions)
-                if inside and f.definition is not None:
-                    return self._ev(ctx, f.definition)
-                if table is None:
-                    # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
-                    raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
-                return self._open_call(ctx, e, f, table, tuple(args), inside)
-            finally:
-                ctx.bind = saved
-        if isinstance(e, ast.ResultRef):
-            if ctx.bind is not None and RESULT in ctx.bind:
-                return ctx.bind[RESULT]
-            raise NotInterpretable(e.pos, "result outside a postcondition")
-        if isinstance(e, ast.SeqLiteral):
-            return _coerce(e.type, tuple(self._ev(ctx, x) for x in e.items))
-        if isinstance(e, ast.SetLiteral):
-            return _coerce(e.type, frozenset(self._ev(ctx, x) for x in e.items))
-        if isinstance(e, ast.TupleLiteral):
-            return _coerce(e.type, Product(self._ev(ctx, x) for x in e.items))
-        if isinstance(e, ast.Index):
-            v = self._ev(ctx, e.value)
-            i = self._ev(ctx, e.index)
-            if isinstance(v, Product):
-                return v[i - 1]
-            if not 1 <= i <= len(v):
-                # Outside 1..#s an index has any value (as a function outside its precondition).
-                raise NotInterpretable(e.pos, f"index {i} outside a sequence of length {len(v)}")
+            return simple(a, b)
+        if op in ("/", "%"):
+            if b == 0:
+                raise NotInterpretable(e.pos, "division by zero")
+            real = e.type == ast.REAL or isinstance(a, Fraction) or isinstance(b, Fraction)
+            if op == "/":
+                return Fraction(a) / Fraction(b) if real else _ediv(a, b)
+            if real:
+                raise NotInterpretable(e.pos, "% on reals")
+            return a - b * _ediv(a, b)
+        raise NotInterpretable(e.pos, f"operator {op}")
+
+    def _ev_enum(self, ctx: _Ctx, e: ast.EnumLiteral) -> Any:
+        if e.args:
+            ps = e.enum.parameters(e.literal)
+            return Variant((f"{e.enum.name}::{e.literal}",
+                            *(_coerce(pt, self._ev(ctx, a)) for pt, a in zip(ps, e.args, strict=True))))
+        return f"{e.enum.name}::{e.literal}"
+
+    def _ev_field(self, ctx: _Ctx, e: ast.FieldRef) -> Any:
+        r = self._eval_ref(ctx, e.record) if self.lazy else self._ev(ctx, e.record)
+        v = r.get(e.field_name) if isinstance(r, dict) else None
+        if v is None:
+            raise NotInterpretable(e.pos, f"field {e.field_name} has no value")
+        return self._known(ctx, v) if self.lazy else v
+
+    def _ev_unary(self, ctx: _Ctx, e: ast.Unary) -> Any:
+        v = self._ev(ctx, e.operand)
+        if e.op == "not":
+            return not v
+        if e.op == "-":
+            return -v
+        if e.op == "trunc":  # towards zero, as FDR's integer reals divide
+            return Fraction(math.trunc(v))
+        raise NotInterpretable(e.pos, f"operator {e.op}")
+
+    def _ev_if(self, ctx: _Ctx, e: ast.IfExpr) -> Any:
+        return self._ev(ctx, e.then) if self._ev(ctx, e.condition) else self._ev(ctx, e.otherwise)
+
+    def _ev_record(self, ctx: _Ctx, e: ast.RecordLiteral) -> Any:
+        if ast.omits_fields(e):
+            raise NotInterpretable(e.pos, "a record literal omitting fields, other than as an initial value")
+        return _coerce(e.type, Record({n: self._ev(ctx, x) for n, x in e.fields}))
+
+    def _ev_since(self, ctx: _Ctx, e: ast.Since) -> Any:
+        return ctx.get(self._slot_of[("clk", ctx.i, e.clock.name)])
+
+    def _ev_call(self, ctx: _Ctx, e: ast.Call) -> Any:
+        f = e.function
+        if f.unchecked:
+            raise NotInterpretable(e.pos, ast.unchecked_function(f))
+        table = self._slot_of.get(("fun", f.qname))
+        if f.definition is None and table is None:
+            raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
+        args = [_coerce(p.type, self._ev(ctx, a)) for p, a in zip(f.parameters, e.args, strict=False)]
+        saved = ctx.bind
+        ctx.bind = {(p.owner, p.name): a for p, a in zip(f.parameters, args, strict=False)}
+        try:
+            inside = all(self._ev(ctx, pre) is True for pre in f.preconditions)
+            if inside and f.definition is not None:
+                return self._ev(ctx, f.definition)
+            if table is None:
+                # Outside its preconditions the function is unconstrained (docs/semantics.md §6.4): any value.
+                raise NotInterpretable(e.pos, f"{f.name} called outside its precondition")
+            return self._open_call(ctx, e, f, table, tuple(args), inside)
+        finally:
+            ctx.bind = saved
+
+    def _ev_result(self, ctx: _Ctx, e: ast.ResultRef) -> Any:
+        if ctx.bind is not None and RESULT in ctx.bind:
+            return ctx.bind[RESULT]
+        raise NotInterpretable(e.pos, "result outside a postcondition")
+
+    def _ev_seq(self, ctx: _Ctx, e: ast.SeqLiteral) -> Any:
+        return _coerce(e.type, tuple(self._ev(ctx, x) for x in e.items))
+
+    def _ev_set(self, ctx: _Ctx, e: ast.SetLiteral) -> Any:
+        return _coerce(e.type, frozenset(self._ev(ctx, x) for x in e.items))
+
+    def _ev_tuple(self, ctx: _Ctx, e: ast.TupleLiteral) -> Any:
+        return _coerce(e.type, Product(self._ev(ctx, x) for x in e.items))
+
+    def _ev_index(self, ctx: _Ctx, e: ast.Index) -> Any:
+        v = self._ev(ctx, e.value)
+        i = self._ev(ctx, e.index)
+        if isinstance(v, Product):
             return v[i - 1]
-        if isinstance(e, ast.Builtin):
-            return self._builtin(e, [self._ev(ctx, a) for a in e.args])
-        if isinstance(e, ast.Let):
-            value = self._ev(ctx, e.value)
-            saved = ctx.bind
-            ctx.bind = {**(saved or {}), (e.variable.owner, e.variable.name): value}
-            try:
-                return self._ev(ctx, e.body)
-            finally:
-                ctx.bind = saved
-        if isinstance(e, ast.Quantifier):
-            return self._quantifier(ctx, e)
-        if isinstance(e, ast.Lambda):
-            return self._closure(ctx, e)
-        if isinstance(e, ast.Apply):
-            return self._apply(ctx, e, self._ev(ctx, e.function), [self._ev(ctx, a) for a in e.args])
-        if isinstance(e, ast.SetComprehension):
-            return self._comprehension(ctx, e)
-        raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+        if not 1 <= i <= len(v):
+            # Outside 1..#s an index has any value (as a function outside its precondition).
+            raise NotInterpretable(e.pos, f"index {i} outside a sequence of length {len(v)}")
+        return v[i - 1]
+
+    def _ev_let(self, ctx: _Ctx, e: ast.Let) -> Any:
+        value = self._ev(ctx, e.value)
+        saved = ctx.bind
+        ctx.bind = {**(saved or {}), (e.variable.owner, e.variable.name): value}
+        try:
+            return self._ev(ctx, e.body)
+        finally:
+            ctx.bind = saved
 
     def _closure(self, ctx: _Ctx, e: ast.Lambda) -> Closure:
         """A lambda's value: the values of the names it reads from outside, read now."""
