@@ -302,7 +302,6 @@ class Evaluator:
         self.fields = fields or {}  # RoboTool's `pkg_R_f`: a record's field by name and by place
         self.enumerations = enumerations or {}  # an enumeration type's name (RoboTool's `pkg_E` too): its literals
         self.memory = memory  # RoboTool's `set_x`/`get_x` channel names of the model's variables, not its events
-        self.semantics: Semantics | None = None  # the steps' side, which knows the channels' values
 
     def error(self, node: Tree | Token, what: str) -> CspError:
         return CspError(pos_of(self.block, node), what)
@@ -548,36 +547,8 @@ class Evaluator:
             members = sorted(values, key=_member_order)
         else:
             raise self.error(over, "a replicated operator needs a set")
-        if op_text != "[]" and isinstance(values, EventSet):
-            members = self._each_event(t, members)
         procs: list[Proc] = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
         return _fold({"|~|": "internal", "[]": "external", "|||": "parallel"}[op_text], procs, env.timed)
-
-    def _each_event(self, t: Tree, members: list[object]) -> list[object]:
-        """The members of an event set one event each. A channel's closure is one member standing
-        for every value of the channel, which is right for `[]` (`c?x` offers them all) but not for
-        `|~|` and `|||`, which take each event alone: there the channel's events are listed, as the
-        engines list the model's channels within the ranges."""
-        out: list[object] = []
-        for m in members:
-            if not (isinstance(m, tuple) and m and m[-1] is ANY):
-                out.append(m)
-                continue
-            prefix = m[:-1]
-            sem = self.semantics
-            channels = [(p, n) for p, n in (sem.alphabet if sem is not None else [])
-                        if _extends(tuple(p), prefix) or _extends(prefix, tuple(p))]
-            if sem is None or not channels:
-                raise self.error(t, f"{'.'.join(map(str, prefix))} is not a channel of the model, whose values "
-                                    "a replicated internal choice or interleaving could take one by one")
-            for p, n in channels:
-                listed = [()] if n == 0 else sem.values(tuple(p)) if sem.values is not None else None
-                if listed is None:
-                    raise self.error(t, f"a replicated internal choice or interleaving over {'.'.join(map(str, p))} "
-                                        "takes each of its events alone, which needs its values listed: give a "
-                                        "range for each of its fields (--range)")
-                out += [e for v in listed if _extends(e := (*p, *v), prefix)]
-        return out
 
     # --- typed views
 
@@ -874,9 +845,6 @@ class Semantics:
     # and ranges make them few, else None: lets the specification's traces be listed where a term
     # accepts any value (`c?x`).  Set by the engines, which know the ranges.
     values: Callable[[Event], list[tuple] | None] | None = None
-
-    def __post_init__(self) -> None:
-        self.evaluator.semantics = self
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
         if not isinstance(p, Thunk):
