@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
 from conftest import EXAMPLE, run_cli, verdicts_are, write_files
 
 from tockbmc import ModelError, Project, load
+from tockbmc.encodings.values import Range, Ranges
 from tockbmc.model import ast
 
 
@@ -379,6 +381,88 @@ def test_connection_to_unknown_event(tmp_path: Path) -> None:
     write_files(tmp_path, {"m.rct": CONNECTED.replace("TYPE", "int")
                            .replace("CONNECTION", "connection a on out to b on inpt")})
     assert located(load_error(tmp_path)) == [("m.rct", 19, 31, "'b' has no event 'inpt'; did you mean 'inp'?")]
+
+
+# A module whose platform sends `a` on to a machine that answers once with `b!1`, in the order
+# RoboTool's examples write it: references first, then the connections that name them.
+IN_ORDER = """\
+interface I { event a }
+interface J { event b : int }
+robotic platform P { uses I uses J }
+module Mod {
+	rref p = P
+	cref c = Ctrl
+	connection p on a to c on a
+	connection c on b to p on b
+}
+controller Ctrl {
+	uses I
+	uses J
+	sref s = M
+	connection Ctrl on a to s on a
+	connection s on b to Ctrl on b
+}
+stm M {
+	uses I
+	uses J
+	var n : int = 0
+	initial i0
+	state A { }
+	transition t0 { from i0 to A }
+	transition t1 { from A to A trigger a condition n < 1 action n = n + 1 ; b!n }
+}
+"""
+IN_ORDER_ASSERTIONS = """\
+timed csp OnlyA csp-begin
+Timed(OneStep) {
+  OnlyA = Mod::a.in -> OnlyA
+}
+csp-end
+assertion A1 : Mod is deadlock-free
+assertion A2 : Mod refines OnlyA in the traces model
+assertion A3 : Ctrl is deterministic
+"""
+# After `b!1` the machine waits for an `a` it never takes again; `b` is not OnlyA's.
+IN_ORDER_VERDICTS = {"A1": "violated", "A2": "violated", "A3": "holds"}
+SMALL_INTS = Ranges({"core_int": Range(Fraction(-1), Fraction(1))})
+
+
+def counterexamples(project: Project) -> list[tuple[str, str, list[str | None]]]:
+    """(engine, assertion, visible events) of each result of both engines, with the verdicts the
+    module IN_ORDER has."""
+    bmc, explicit = verdicts_are(project, SMALL_INTS, 10, IN_ORDER_VERDICTS)
+    return [(r.engine, r.assertion, [s.event for s in r.trace if s.kind != "internal"]) for r in (*bmc, *explicit)]
+
+
+@pytest.fixture(scope="module")
+def in_order(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[str, str, list[str | None]]]:
+    return counterexamples(load(write_files(tmp_path_factory.mktemp("in_order"),
+                                            {"m.rct": IN_ORDER, "m.assertions": IN_ORDER_ASSERTIONS})))
+
+
+def test_connections_may_name_references_declared_further_down(
+        tmp_path: Path, in_order: list[tuple[str, str, list[str | None]]]) -> None:
+    """RoboTool scopes a connection's ends over all of the module's nodes, or all of the
+    controller's machines, wherever they are declared (RoboChartScopeProvider.getScopeForConnection)."""
+    refs, connections = "\trref p = P\n\tcref c = Ctrl\n", "\tconnection p on a to c on a\n\tconnection c on b to p on b\n"
+    model = IN_ORDER.replace(refs + connections, connections + refs)
+    sref, connections = "\tsref s = M\n", "\tconnection Ctrl on a to s on a\n\tconnection s on b to Ctrl on b\n"
+    model = model.replace(sref + connections, connections + sref)
+    assert model.index("cref c") > model.index("connection c") and model.index("sref s") > model.index("connection s")
+    project = load(write_files(tmp_path, {"m.rct": model, "m.assertions": IN_ORDER_ASSERTIONS}))
+    assert counterexamples(project) == in_order
+
+
+def test_a_connection_names_events_its_ends_have_through_required_interfaces(
+        tmp_path: Path, in_order: list[tuple[str, str, list[str | None]]]) -> None:
+    """A controller's or machine's events include those of the interfaces it requires, as RoboTool's
+    scoping of a connection's events has them (RoboChartScopeProvider.eventsDeclared); with them the
+    module checks as with `uses`."""
+    model = IN_ORDER.replace("\tuses J\n", "\trequires J\n")
+    assert model.count("requires J") == 2
+    project = load(write_files(tmp_path, {"m.rct": model, "m.assertions": IN_ORDER_ASSERTIONS}))
+    assert [e.name for e in project.controllers[0].events] == ["a", "b"]
+    assert counterexamples(project) == in_order
 
 
 # ------------------------------------------------------------------ (g) initial junctions

@@ -688,8 +688,11 @@ class Resolver:
                 iface = self.interface_ref(scope, item.children[0])
                 if iface is not None:
                     relations[item.data].append(iface.qname)
-                    if item.data == "uses":
-                        events += iface.events
+                    # A controller's events are its own and those of the interfaces it uses, requires
+                    # or provides, as RoboTool's scoping resolves a connection's event at a controller
+                    # (RoboChartScopeProvider.eventsDeclared(ControllerDef)); machines and platforms
+                    # take theirs the same way (`behaviour`, `platform`).
+                    events += iface.events
             elif item.data == "event":
                 events.append(self.event(scope, item, qname))
             elif item.data == "var_list":
