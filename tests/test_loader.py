@@ -465,6 +465,114 @@ def test_a_connection_names_events_its_ends_have_through_required_interfaces(
     assert counterexamples(project) == in_order
 
 
+# ------------------------------------------------------------------ an event and a variable of one name
+
+
+# A machine that receives a value on event `x` into a variable of another name, and sends it on `y`
+# where it is positive; SAME_NAME names the variable `x` as well.
+RENAMED = """\
+interface IE { event x : int event y : int }
+interface IV { var v : int }
+stm M {
+\tuses IE
+\tuses IV
+\tinitial i
+\tstate Wait { }
+\tstate Got { }
+\ttransition t0 { from i to Wait }
+\ttransition t1 { from Wait to Got trigger x?v }
+\ttransition t2 { from Got to Wait condition v > 0 action y!v }
+\ttransition t3 { from Got to Wait condition v <= 0 }
+}
+"""
+SAME_NAME = RENAMED.replace("var v", "var x").replace("x?v", "x?x").replace("condition v", "condition x") \
+    .replace("y!v", "y!x")
+PASSED_ON = """\
+timed csp NoY csp-begin
+Timed(OneStep) {
+  NoY = M::x.in?v -> NoY
+}
+csp-end
+assertion A1 : Got is reachable in M
+assertion A2 : M is deadlock-free
+assertion A3 : M refines NoY in the traces model
+"""
+
+
+def test_an_event_and_a_variable_of_one_name_from_two_interfaces_stay_apart(tmp_path: Path) -> None:
+    """RoboTool's NamesAreUniqueValidator compares qualified names: `IE::x` and `IV::x` do not meet.
+    Both engines read `x?x` as the event `x` into the variable `x`, and `y!x` as the value received."""
+    verdicts = {"A1": "holds", "A2": "holds", "A3": "violated"}
+    for name, model in (("renamed", RENAMED), ("reused", SAME_NAME)):
+        project = load(write_files(tmp_path / name, {"m.rct": model, "m.assertions": PASSED_ON}))
+        for r in (r for rs in verdicts_are(project, SMALL_INTS, 10, verdicts) for r in rs if r.assertion == "A3"):
+            assert [s.event for s in r.trace if s.kind != "internal"] == ["M::x.in.1", "M::y.out.1"], r.engine
+
+
+SHARED = """\
+interface IE { event x : int event y : int }
+interface IV { var v : int }
+stm M {
+\tuses IE
+\trequires IV
+\tvar w : int
+\tinitial i
+\tstate Wait { }
+\tstate Got { }
+\ttransition t0 { from i to Wait }
+\ttransition t1 { from Wait to Got trigger x?w action v = w }
+\ttransition t2 { from Got to Wait condition v > 0 action y!v }
+\ttransition t3 { from Got to Wait condition v <= 0 }
+}
+controller C {
+\tuses IE
+\trequires IV
+\tsref m = M
+\tconnection C on x to m on x
+\tconnection m on y to C on y
+}
+robotic platform P { uses IE provides IV }
+module Mod {
+\trref p = P
+\tcref c = C
+\tconnection p on x to c on x
+\tconnection c on y to p on y
+}
+"""
+
+
+def test_a_variable_shared_through_a_module_and_an_event_of_its_name_stay_apart(tmp_path: Path) -> None:
+    """The platform's variable `x`, written by the machine (RoboTool's `set_x`), and the event `x`."""
+    for name in ("v", "x"):
+        model = SHARED.replace("var v", f"var {name}").replace("v = w", f"{name} = w") \
+            .replace("condition v", f"condition {name}").replace("y!v", f"y!{name}")
+        project = load(write_files(tmp_path / name, {"m.rct": model, "m.assertions": PASSED_ON.replace(
+            "M::x.in", "Mod::x.in").replace("M is", "Mod is").replace("M refines", "Mod refines")}))
+        for r in (r for rs in verdicts_are(project, SMALL_INTS, 10, {"A1": "holds", "A2": "holds", "A3": "violated"})
+                  for r in rs if r.assertion == "A3"):
+            received, written = [s.event for s in r.trace if s.kind != "internal"]
+            assert received.startswith("Mod::x.in.") and written == f"Mod::set_{name}.{received.split('.')[-1]}", \
+                (r.engine, received, written)
+
+
+def test_a_machine_named_as_its_package_may_have_an_event_and_an_interface_variable_of_one_name(
+        tmp_path: Path) -> None:
+    model = "package M\n" + SAME_NAME.replace("\tuses IE\n", "\tevent x : int\n\tevent y : int\n") \
+        .replace("interface IE { event x : int event y : int }\n", "")
+    (m,) = load(write_files(tmp_path, {"m.rct": model})).machines
+    assert m.qname == "M::M" and [(e.name, e.owner) for e in m.events] == [("x", "M::M"), ("y", "M::M")]
+    assert [(v.name, v.owner) for v in m.interface_variables] == [("x", "M::IV")]
+
+
+def test_an_event_and_a_variable_both_declared_in_one_machine_clash(tmp_path: Path) -> None:
+    """`M::z` twice: RoboTool reports the duplicate name too (where one of the two comes through an
+    interface, as `y` here, they do not clash)."""
+    load(write_files(tmp_path / "apart", {"m.rct": SAME_NAME.replace("\tuses IE\n", "\tuses IE\n\tvar y : int\n")}))
+    model = SAME_NAME.replace("\tuses IE\n", "\tuses IE\n\tevent z\n\tvar z : int\n")
+    assert located(load_error(write_files(tmp_path / "clash", {"m.rct": model}))) == [
+        ("m.rct", 5, 8, "'z' names both an event and a variable of M")]
+
+
 # ------------------------------------------------------------------ (g) initial junctions
 
 

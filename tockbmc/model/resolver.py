@@ -489,8 +489,15 @@ class Resolver:
         self._no_duplicates(path, events, qname)
         self._no_duplicates(path, clocks, qname)
         self._no_duplicates(path, operations, qname)
+        # RoboTool refuses one name twice by Xtext's NamesAreUniqueValidator (the composedCheck of
+        # robochart-textual's GenerateRoboChart.mwe2): named elements of one file clash where their
+        # qualified names meet, so an event and a variable clash only when both are declared in the
+        # machine itself (`M::x` twice). One that comes in through an interface is the interface's
+        # (`I::x`) and meets nothing of the machine's; the two stay apart, as events and variables
+        # are apart in expressions (`ExprChecker`).
+        own = {v.name for v in (*variables, *params)}
         for e in events:
-            if e.name in expr_scope.variables:
+            if e.owner == qname and e.name in own:
                 self.report(e.pos, f"'{e.name}' names both an event and a variable of {qname}")
         expr_scope.events = {e.name: e for e in events}
         expr_scope.clocks = {c.name: c for c in clocks}
