@@ -38,6 +38,13 @@ stm Counter {
 }
 """
 
+# Two assertion files that reuse the name A1, as a case study keeps its paper's assertions beside its
+# working ones (RoboTool writes each file as a CSP file of its own): both A1 are violated, A2 holds.
+REUSED_NAMES = {"m.rct": COUNTER, "paper.assertions": "assertion A1: Counter does not terminate.\n",
+                "work.assertions": "assertion A1: S is not reachable in Counter.\nassertion A2: Counter terminates.\n"}
+# How every report names them.
+REUSED_LABELS = ["paper.assertions:A1", "work.assertions:A1", "A2"]
+
 DIFFERENTIAL = REPO / "benchmarks" / "differential_cases.py"
 
 

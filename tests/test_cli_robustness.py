@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TextIO
 
 import pytest
-from conftest import EXAMPLE, run_cli, write_files
+from conftest import EXAMPLE, REUSED_NAMES, run_cli, write_files
 
 from tockbmc import ModelError, load
 from tockbmc.cli import main
@@ -29,6 +29,27 @@ def test_timeout_must_be_a_finite_positive_number(value: str) -> None:
     result = run_cli(["check", EXAMPLE, "-a", "A1", "--timeout", value])
     assert result.crash is None and result.exit_code == 2, result.output
     assert "Invalid value for '--timeout'" in result.stderr
+
+
+@pytest.mark.parametrize(("names", "chosen"), [
+    (["A1"], ["paper.assertions:A1", "work.assertions:A1"]),
+    (["work.assertions:A1"], ["work.assertions:A1"]),
+    (["A2", "paper.assertions:A1"], ["paper.assertions:A1", "A2"]),
+])
+def test_a_name_picks_every_assertion_of_that_name_and_a_label_just_one(tmp_path: Path, names: list[str],
+                                                                          chosen: list[str]) -> None:
+    out = run_cli(["check", write_files(tmp_path, REUSED_NAMES), "-j", "1", "--format", "json",
+                   *(arg for n in names for arg in ("-a", n))])
+    assert out.crash is None and out.exit_code == 10, out.output
+    assert [r["assertion"] for r in json.loads(out.stdout)["results"]] == chosen
+
+
+@pytest.mark.parametrize(("name", "closest"), [("A11", "A1"), ("work.assertion:A1", "work.assertions:A1")])
+def test_a_name_no_assertion_has_is_a_usage_error_with_the_closest(tmp_path: Path, name: str, closest: str) -> None:
+    out = run_cli(["check", write_files(tmp_path, REUSED_NAMES), "-a", name])
+    assert out.crash is None and out.exit_code == 2, out.output
+    assert f"no assertion named '{name}'; did you mean '{closest}'? (known: A2, paper.assertions:A1, " \
+           "work.assertions:A1)" in " ".join(out.stderr.split()), out.stderr
 
 
 # -------------------------------------------------------------------- streams and files

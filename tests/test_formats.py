@@ -18,7 +18,7 @@ from typing import Any
 
 import jsonschema
 import pytest
-from conftest import EXAMPLE, REPO, CliOutcome, run_cli, write_files
+from conftest import EXAMPLE, REPO, REUSED_LABELS, REUSED_NAMES, CliOutcome, run_cli, write_files
 from junitparser import Error, Failure, JUnitXml, Skipped
 
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
@@ -80,6 +80,37 @@ def undecided(trace: tuple[TraceStep, ...] = ()) -> Result:
     return Result(assertion="U", text="assertion U: M is deadlock-free.", verdict=Verdict.UNKNOWN, bound=40,
                   ranges={}, seconds=1.5, reason="the solver gave up", trace=trace, proof=Proof.NONE, depth=12,
                   pos="m.assertions:3:11")
+
+
+def reused_names(tmp_path: Path, fmt: str, *extra: str) -> CliOutcome:
+    """The check of REUSED_NAMES in a format."""
+    out = run_cli(["check", write_files(tmp_path, REUSED_NAMES), "-j", "1", "--format", fmt, *extra])
+    assert out.crash is None and out.exit_code == 10, out.output
+    return out
+
+
+@pytest.mark.parametrize("fmt", ["text", "json", "junit", "sarif"])
+def test_assertions_of_one_name_in_two_files_are_named_by_their_files_in_every_format(tmp_path: Path,
+                                                                                       fmt: str) -> None:
+    out = reused_names(tmp_path, fmt)
+    if fmt == "text":
+        lines = out.stdout.splitlines()
+        assert [line.split("│")[1].strip() for line in lines if line.startswith("│")] == REUSED_LABELS
+        assert [line.split(": ")[0] for line in lines if ": violated" in line] == REUSED_LABELS[:2]
+    elif fmt == "json":
+        assert [r["assertion"] for r in json.loads(out.stdout)["results"]] == REUSED_LABELS
+    elif fmt == "junit":
+        report = JUnitXml.fromstring(out.stdout)
+        files = ["paper.assertions", "work.assertions", "work.assertions"]
+        assert [(Path(suite.name).name, case.name) for suite in report for case in suite] == list(
+            zip(files, REUSED_LABELS, strict=True))
+    else:
+        log = json.loads(out.stdout)
+        validate_sarif(log)
+        [run] = log["runs"]
+        assert [(r["properties"]["assertion"], r["ruleId"], r["message"]["text"].split(" ")[0])
+                for r in run["results"]] == [(REUSED_LABELS[0], "does-not-terminate", REUSED_LABELS[0]),
+                                             (REUSED_LABELS[1], "not-reachable", REUSED_LABELS[1])]
 
 
 # ------------------------------------------------------------------ ITF

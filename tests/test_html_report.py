@@ -16,7 +16,7 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLE, REPO, run_cli
+from conftest import EXAMPLE, REPO, REUSED_LABELS, REUSED_NAMES, run_cli, write_files
 
 from tockbmc.model.result import Proof, Result, TraceStep, Verdict
 from tockbmc.report.html import render_report
@@ -283,3 +283,14 @@ def test_a_report_in_a_directory_that_does_not_exist_is_a_usage_error(tmp_path: 
     outcome = run_cli(["check", str(EXAMPLE), "-a", "A7", "--report", str(tmp_path / "missing" / "r.html")])
     assert outcome.exit_code == 2 and outcome.crash is None, outcome.output
     assert "no directory" in outcome.output
+
+
+def test_assertions_of_one_name_in_two_files_are_named_by_their_files(tmp_path: Path) -> None:
+    """As in the other formats (tests/test_formats.py): the table's rows and the traces' sections."""
+    outcome = run_cli(["check", write_files(tmp_path, REUSED_NAMES), "-j", "1", "--report", str(tmp_path / "r.html")])
+    assert outcome.crash is None and outcome.exit_code == 10, outcome.output
+    dom = parse((tmp_path / "r.html").read_text(encoding="utf-8"))
+    rows = [tr.attrs["data-assertion"] for table in dom.iter("table") if "verdicts" in table.classes()
+            for tr in table.iter("tr") if "data-assertion" in tr.attrs]
+    assert rows == REUSED_LABELS
+    assert [a.attrs["data-assertion"] for a in dom.iter("article")] == REUSED_LABELS

@@ -7,7 +7,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLE, run_cli, verdicts_are, write_files
+from conftest import COUNTER, EXAMPLE, run_cli, verdicts_are, write_files
 
 from tockbmc import ModelError, Project, load
 from tockbmc.encodings.values import Range, Ranges
@@ -759,6 +759,33 @@ def test_unsupported_probabilistic_junction(tmp_path: Path) -> None:
         ("m.rct", 3, 3, "unsupported: probabilistic junctions"),
         ("m.rct", 6, 31, "unsupported: probabilistic transitions"),
     ]
+
+
+# ------------------------------------------------------------------ assertions of one name in several files
+
+
+def test_assertions_of_one_name_in_two_files_both_load_labelled_by_their_files(tmp_path: Path) -> None:
+    """RoboTool writes each `.assertions` file as a CSP file of its own: two may reuse a name."""
+    project = load(write_files(tmp_path, {"m.rct": COUNTER, "paper.assertions": "assertion A1: Counter terminates\n",
+                                          "work.assertions": "assertion A1: Counter is deadlock-free\n"
+                                                             "assertion A2: Counter is deterministic\n"}))
+    assert [(a.name, a.label, a.kind) for a in project.assertions] == [
+        ("A1", "paper.assertions:A1", "terminates"), ("A1", "work.assertions:A1", "deadlock-free"),
+        ("A2", "A2", "deterministic")]
+
+
+def test_files_of_one_name_in_two_folders_label_their_assertions_by_path(tmp_path: Path) -> None:
+    write_files(tmp_path / "a", {"m.rct": COUNTER, "p.assertions": "assertion A1: Counter terminates\n"})
+    write_files(tmp_path / "b", {"p.assertions": "assertion A1: Counter is deadlock-free\n"})
+    assert [a.label for a in load(tmp_path).assertions] == [f"{tmp_path / d / 'p.assertions'}:A1" for d in "ab"]
+
+
+def test_an_assertion_name_declared_twice_in_one_file_is_an_error(tmp_path: Path) -> None:
+    write_files(tmp_path, {"m.rct": COUNTER, "paper.assertions": "assertion A1: Counter terminates\n",
+                           "work.assertions": "assertion A1: Counter is deadlock-free\n"
+                                              "assertion A1: Counter is deterministic\n"})
+    assert located(load_error(tmp_path)) == [
+        ("work.assertions", 2, 11, f"assertion 'A1' is declared twice (first at {tmp_path / 'work.assertions'}:1:11)")]
 
 
 # ------------------------------------------------------------------ files and paths

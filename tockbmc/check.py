@@ -73,7 +73,7 @@ def iter_check(project: ast.Project, names: Iterable[str] | None = None, bound: 
     config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
     for a in config.project.assertions:
-        if wanted is None or a.name in wanted:
+        if wanted is None or any(a.selected_by(n) for n in wanted):
             yield check_assertion(config.project, a, bound, config, timeout, induction, shortest)
 
 
@@ -110,13 +110,13 @@ class _Check:
 
     def result(self, verdict: Verdict, reason: str | None, *, proof: Proof, depth: int | None,
                trace: tuple[TraceStep, ...] = (), extra: dict | None = None) -> Result:
-        return Result(assertion=self.a.name, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
+        return Result(assertion=self.a.label, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=reason,
                       trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {}, constants=self.constants,
                       sources=self.sources, reading=self.config.reading, defaults=self.defaults)
 
     def unsupported(self, exc: Unsupported) -> Result:
-        return Result(assertion=self.a.name, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
+        return Result(assertion=self.a.label, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=exc.reason,
                       proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources,
                       reading=self.config.reading, defaults=self.defaults)

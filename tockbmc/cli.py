@@ -146,11 +146,12 @@ def _settings(specs: tuple[str, ...]) -> dict[str, str]:
 
 def _known_assertions(project: Project, names: tuple[str, ...]) -> None:
     """A usage error, with the closest name and the known ones, for a name `-a` gives that no
-    assertion has."""
-    known = sorted({a.name for a in project.assertions})
+    assertion has (an assertion's name, or its label `file.assertions:name` where two files share it)."""
+    known = sorted({a.label for a in project.assertions})
     for n in names:
-        if n not in known:
-            raise click.BadParameter(f"no assertion named '{n}'{suggestion(n, known)} (known: "
+        if not any(a.selected_by(n) for a in project.assertions):
+            closest = suggestion(n, known + [a.name for a in project.assertions])
+            raise click.BadParameter(f"no assertion named '{n}'{closest} (known: "
                                      f"{', '.join(known) or 'none'})", param_hint="'-a'")
 
 
@@ -210,7 +211,9 @@ def default_jobs() -> int:
 
 @cli.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
-@click.option("-a", "--assertion", "names", multiple=True, help="Check only this assertion (repeatable).")
+@click.option("-a", "--assertion", "names", multiple=True,
+              help="Check only the assertions of this name, or the one of this label (FILE.assertions:NAME, "
+                   "where two files reuse the name) (repeatable).")
 @click.option("-k", "--bound", type=click.IntRange(0), default=DEFAULT_BOUND, show_default=True,
               help="Maximum number of steps (events, tocks and internal steps) searched.")
 @click.option("--range", "range_specs", multiple=True, metavar="NAME=LO..HI",
@@ -292,7 +295,7 @@ def check(paths: tuple[str, ...], names: tuple[str, ...], bound: int, range_spec
         project = dataclasses.replace(project, assertions=project.assertions + core_assertions(project))
     config = _configure(project, range_specs, set_specs, param_specs, reading)
     _known_assertions(project, names)
-    selected = [i for i, a in enumerate(config.project.assertions) if not names or a.name in names]
+    selected = [i for i, a in enumerate(config.project.assertions) if not names or any(a.selected_by(n) for n in names)]
     results, decided = _decide(Job(config, bound, timeout, shortest, engine, max_states), selected, fmt, workers,
                                dask_address)
     with reader_may_leave(sys.stdout):  # `tockbmc check … | head`: the verdicts still decide the status
@@ -356,7 +359,7 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
     as soon as the rows before it are in.  The results, in the order of `selected` (the assertions Ctrl-C
     stopped `interrupted`), and how the drawing ended."""
     assertions = [job.config.project.assertions[i] for i in selected]
-    labels = [a.name for a in assertions]
+    labels = [a.label for a in assertions]
     display = ProgressDisplay(labels, job.bound, Console(stderr=True)) if _shows_progress(fmt) else None
     progress = display.progress_of if display is not None else None
     work = [(job, i) for i in selected]
@@ -410,7 +413,9 @@ def _decide(job: Job, selected: list[int], fmt: str, workers: int,
 
 @cli.command()
 @click.argument("paths", nargs=-1, required=True, type=click.Path(exists=True))
-@click.option("-a", "--assertion", "names", multiple=True, help="Explore only this assertion (repeatable).")
+@click.option("-a", "--assertion", "names", multiple=True,
+              help="Explore only the assertions of this name, or the one of this label (FILE.assertions:NAME, "
+                   "where two files reuse the name) (repeatable).")
 @click.option("--param", "param_specs", multiple=True, metavar="NAME",
               help="What varies (repeatable): a range (core_int, core_nat, core_real, a model type, a path "
                    "EXAX::move.time), whose bounds become parameters, or a constant without a value.  Default: "

@@ -81,7 +81,7 @@ def explore(project: ast.Project, names: Iterable[str] | None = None, bound: int
     p = plan(project, ranges, settings, params)
     wanted = set(names) if names is not None else None
     for a in p.config.project.assertions:
-        if wanted is None or a.name in wanted:
+        if wanted is None or any(a.selected_by(n) for n in wanted):
             with own_z3_context():
                 yield _Explore(a, bound, p, timeout).run()
 
@@ -97,7 +97,7 @@ class _Explore:
         return None if self.timeout is None else max(SPENT, self.timeout - (time.perf_counter() - self.start))
 
     def out(self, status: str, **fields: object) -> Exploration:
-        return Exploration(assertion=self.a.name, text=self.a.text, pos=str(self.a.pos), status=status,
+        return Exploration(assertion=self.a.label, text=self.a.text, pos=str(self.a.pos), status=status,
                            bound=self.bound, seconds=time.perf_counter() - self.start, **fields)  # type: ignore[arg-type]
 
     def run(self) -> Exploration:

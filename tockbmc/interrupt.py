@@ -117,6 +117,6 @@ def decide(items: Iterable[T], grace: float = 0.5, on_item: Callable[[T], None] 
 
 def interrupted(a: ast.Assertion, ranges: Ranges, engine: str) -> Result:
     """The result of an assertion that Ctrl-C (or SIGTERM) stopped before its verdict."""
-    return Result(assertion=a.name, text=a.text, verdict=Verdict.INTERRUPTED, bound=None, ranges=ranges.describe(),
+    return Result(assertion=a.label, text=a.text, verdict=Verdict.INTERRUPTED, bound=None, ranges=ranges.describe(),
                   seconds=0.0, reason="interrupted (Ctrl-C or SIGTERM) before a verdict", proof=Proof.NONE,
                   engine=engine, pos=str(a.pos))

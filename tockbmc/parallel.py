@@ -306,7 +306,7 @@ def overran(job: Job, index: int, seconds: float, in_process: bool = False) -> R
     ended, or (`in_process`) the thread deciding it in tockbmc's own process left behind."""
     a = job.config.project.assertions[index]
     what = "tockbmc gave it up" if in_process else "the worker process deciding it was ended"
-    return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
+    return Result(assertion=a.label, text=a.text, verdict=Verdict.UNKNOWN, bound=job.bound,
                   ranges=job.config.ranges().describe(), seconds=seconds, proof=Proof.NONE, engine=job.reported_engine,
                   pos=str(a.pos), reading=job.config.reading,
                   reason=f"the check did not stop at its timeout ({job.timeout:g} s): {what} after {seconds:.0f} s")

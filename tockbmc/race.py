@@ -96,7 +96,7 @@ def decide(project: ast.Project, a: ast.Assertion, bound: int, config: Configura
 
     def overran(seconds: float) -> Result:
         limit = f"its timeout ({timeout:g} s)" if timeout is not None else "the other engine's answer"
-        return Result(assertion=a.name, text=a.text, verdict=Verdict.UNKNOWN, bound=bound,
+        return Result(assertion=a.label, text=a.text, verdict=Verdict.UNKNOWN, bound=bound,
                       ranges=config.ranges().describe(), seconds=seconds, proof=Proof.NONE, pos=str(a.pos),
                       reading=config.reading,
                       reason=f"no engine answered within {limit}: they were ended after {seconds:.0f} s")

@@ -518,7 +518,7 @@ def iter_check_explicit(project: ast.Project, names: Iterable[str] | None, bound
     config = config or configure(project, ranges, settings)
     wanted = set(names) if names is not None else None
     for a in config.project.assertions:
-        if wanted is None or a.name in wanted:
+        if wanted is None or any(a.selected_by(n) for n in wanted):
             yield check_assertion(config.project, a, bound, config, timeout, max_states)
 
 
@@ -576,7 +576,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
             proof = Proof.EXHAUSTIVE if search is not None and search.complete else Proof.BOUNDED
         else:
             proof = Proof.NONE
-        return Result(assertion=a.name, text=a.text, verdict=verdict,
+        return Result(assertion=a.label, text=a.text, verdict=verdict,
                       bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=described,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
                       engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources,
@@ -839,7 +839,7 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
     setup = config.setup(a, q.element, q.settings)
 
     def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
-        return Result(assertion=a.name, text=a.text, verdict=verdict, bound=bound, ranges=setup.described_ranges,
+        return Result(assertion=a.label, text=a.text, verdict=verdict, bound=bound, ranges=setup.described_ranges,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace,
                       proof=Proof.TRACE if trace else Proof.EXHAUSTIVE, engine="explicit", pos=str(a.pos),
                       extra=more or {}, constants=setup.described_constants, sources=setup.sources,

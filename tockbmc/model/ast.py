@@ -1052,6 +1052,19 @@ class Assertion:
     settings: tuple[ConstantSetting, ...] = ()
     subject_is_process: bool = False
     other_is_process: bool = False
+    # The file that tells it apart where another `.assertions` file of the project has an assertion
+    # of the same name ("" where none has): RoboTool keeps each file's assertions apart, each file
+    # becoming a CSP file of its own.
+    file: str = ""
+
+    @property
+    def label(self) -> str:
+        """How results name it: `A1`, or `props.assertions:A1` where another file has an `A1` too."""
+        return f"{self.file}:{self.name}" if self.file else self.name
+
+    def selected_by(self, name: str) -> bool:
+        """Whether `-a name` picks it: its name picks every assertion of that name, its label this one."""
+        return name in (self.name, self.label)
 
 
 # --------------------------------------------------------------------- the project

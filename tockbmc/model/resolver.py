@@ -8,8 +8,10 @@ input.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Callable, Iterable
+from pathlib import Path
 from typing import Any, TypeVar
 
 from lark import Token, Tree
@@ -1130,18 +1132,33 @@ class Resolver:
         for path, kind, tree in self.files:
             if kind == "assertions":
                 assertions += self.assertions(path, tree, blocks, process_names)
-        self._no_duplicates_assertions(assertions)
+        assertions = self._assertions_apart(assertions)
         return ast.Project(root, tuple(p for p, _, _ in self.files), tuple(types), tuple(interfaces), tuple(functions),
                            tuple(machines), tuple(operations), tuple(controllers), tuple(platforms), tuple(modules),
                            tuple(blocks), tuple(assertions), sources=dict(texts))
 
-    def _no_duplicates_assertions(self, assertions: list[ast.Assertion]) -> None:
-        seen: dict[str, ast.Pos] = {}
+    def _assertions_apart(self, assertions: list[ast.Assertion]) -> list[ast.Assertion]:
+        """The assertions, each whose name another file also declares labelled with its file (its
+        name, or its path where two such files share a name): RoboTool writes each `.assertions` file
+        as a CSP file of its own, so two files may reuse a name. In one file a name is declared once."""
+        seen: dict[tuple[str, str], ast.Pos] = {}
+        files: dict[str, list[str]] = {}
         for a in assertions:
-            if a.name in seen:
-                self.report(a.pos, f"assertion '{a.name}' is declared twice (first at {seen[a.name]})")
-            else:
-                seen[a.name] = a.pos
+            key = (a.pos.path, a.name)
+            if key in seen:
+                self.report(a.pos, f"assertion '{a.name}' is declared twice (first at {seen[key]})")
+                continue
+            seen[key] = a.pos
+            files.setdefault(a.name, []).append(a.pos.path)
+        result = []
+        for a in assertions:
+            paths = files[a.name]
+            if len(paths) > 1:
+                names = [Path(p).name for p in paths]
+                unique = len(set(names)) == len(names)
+                a = dataclasses.replace(a, file=Path(a.pos.path).name if unique else a.pos.path)
+            result.append(a)
+        return result
 
 
 def _events_of(element: object) -> tuple[ast.Event, ...]:

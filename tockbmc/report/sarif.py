@@ -65,7 +65,7 @@ MODEL_RULES = {"error": ("model-error", "an error in the model or its assertions
 def log(results: Iterable[Result], version: str, assertions: Iterable[ast.Assertion] = ()) -> dict[str, Any]:
     """The SARIF log of a `check`: a result for each assertion that does not hold."""
     results = list(results)
-    forms = {a.name: (a.kind, a.negated) for a in assertions}
+    forms = {a.label: (a.kind, a.negated) for a in assertions}
     rules: dict[str, dict[str, Any]] = {}
     out = []
     for r in results:

@@ -131,7 +131,7 @@ def project_data(project: ast.Project) -> Data:
         "operations": [behaviour_data(o) for o in project.operations],
         "csp_blocks": [{"name": b.name, "timing": b.timing, "defines": list(b.defines), "pos": _pos(b.pos)}
                        for b in project.csp_blocks],
-        "assertions": [{"name": a.name, "kind": a.kind, "negated": a.negated, "subject": a.subject,
+        "assertions": [{"name": a.label, "kind": a.kind, "negated": a.negated, "subject": a.subject,
                         "other": a.other, "model": a.semantic_model, "timing": a.timing, "text": a.text,
                         "pos": _pos(a.pos)} for a in project.assertions],
     }
