@@ -500,7 +500,8 @@ def simulate(paths: tuple[str, ...], element: str | None, steps: int, seed: int,
     try:
         setup = config.setup(None, chosen)
         run = RandomRun(config.project, element, steps, seed, setup.ranges, setup.constants)
-        with reader_may_leave(sys.stdout):  # `tockbmc simulate … | head`
+        # the interpreter evaluates a nested expression by recursion, two frames a level
+        with reader_may_leave(sys.stdout), recursion_room():  # `tockbmc simulate … | head`
             console = PipeConsole(width=width, soft_wrap=True)
             console.print(Text(run.text, style="bold"))
             for step in run:  # each as it is taken: a long run streams, in flat memory
