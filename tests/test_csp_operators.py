@@ -363,6 +363,46 @@ assertion AIC: Y refines IC in the traces model.
     expect(rs["AIC"], "holds")
 
 
+def test_replicated_internal_choice_over_a_channel_has_a_branch_per_listed_event(tmp_path) -> None:
+    """§4 `|~| ev : {| c |} @ ev -> P`: a branch per event of c, each offering that event alone
+    (not one offering every value, as `c?x` does). W outputs e.0 for ever: its stable failures
+    (refusing all but e.out.0) are failures of the branch for e.out.0, so W refines Each in the
+    failures model; Stuck outputs e.0 once and then refuses everything, which no branch does.
+    Both engines read the specification alike, with e's values listed within the ranges."""
+    rct = """
+stm W {
+  event e : nat
+  initial i
+  state A { }
+  transition t0 { from i to A }
+  transition t1 { from A to A action e!0 }
+}
+stm Stuck {
+  event e : nat
+  initial i
+  state A { }
+  state B { }
+  transition t0 { from i to A }
+  transition t1 { from A to B action e!0 }
+}
+"""
+    text = """
+csp Each csp-begin
+Each = |~| ev : {| W::e |} @ ev -> Each
+EachStuck = |~| ev : {| Stuck::e.out |} @ ev -> EachStuck
+csp-end
+untimed assertion Holds: W refines Each in the failures model.
+untimed assertion Stops: Stuck refines EachStuck in the failures model.
+"""
+    from tockbmc.explicit.engine import check_explicit
+    nat = Ranges({"core_nat": Range(Fraction(0), Fraction(2))})
+    rs = run(tmp_path, rct, text, ranges=nat)
+    by_search = {r.assertion: r for r in check_explicit(tockbmc.load(tmp_path), None, 14, nat, {}, 60)}
+    for results in (rs, by_search):
+        expect(results["Holds"], "holds")
+        expect(results["Stops"], "violated", ["Stuck::e.out.0"])
+
+
 # ---------------------------------------------------------------------------- sequential composition
 
 

@@ -302,6 +302,7 @@ class Evaluator:
         self.fields = fields or {}  # RoboTool's `pkg_R_f`: a record's field by name and by place
         self.enumerations = enumerations or {}  # an enumeration type's name (RoboTool's `pkg_E` too): its literals
         self.memory = memory  # RoboTool's `set_x`/`get_x` channel names of the model's variables, not its events
+        self.semantics: Semantics | None = None  # the steps' side, which knows the model's channels and values
 
     def error(self, node: Tree | Token, what: str) -> CspError:
         return CspError(pos_of(self.block, node), what)
@@ -547,8 +548,40 @@ class Evaluator:
             members = sorted(values, key=_member_order)
         else:
             raise self.error(over, "a replicated operator needs a set")
+        if op_text == "|~|" and isinstance(values, EventSet):
+            members = self._branches(members)
         procs: list[Proc] = [Thunk(body, Env({str(var): m}, {}, env.timed, env)) for m in members]
         return _fold({"|~|": "internal", "[]": "external", "|||": "parallel"}[op_text], procs, env.timed)
+
+    def _branches(self, members: list[object]) -> list[object]:
+        """The branches of an internal choice over events. A channel's closure is one member that
+        offers every value of the channel, where CSP has a branch per event, each offering that
+        event alone: the traces are the same, but such a branch refuses less. So each of the
+        model's channels the closure covers is a branch of its own, and where the engines list
+        the channel's values, each listed event is one too (beside the channel's, which keeps the
+        values the listing may miss, such as an output the model computes outside the ranges):
+        each branch is one CSP has, or refuses no more than one it has, so a refinement shown
+        holds for CSP's choice; a violation shown by a refusal is CSP's too, unless the model
+        offers there only values of the channel the listing misses (docs/semantics.md §10)."""
+        sem = self.semantics
+        out: list[object] = []
+        for m in members:
+            if sem is None or not (isinstance(m, tuple) and m and m[-1] is ANY):
+                out.append(m)
+                continue
+            prefix = m[:-1]
+            channels = [(tuple(p), n) for p, n in sem.alphabet if _extends(tuple(p), prefix)]
+            if not channels or any(_extends(prefix, p) and p != prefix for p, _ in channels):
+                out.append(m)  # not (only) the model's channels, or a closure inside one: as it is
+                continue
+            for p, n in channels:
+                if n == 0:
+                    out.append(p)
+                    continue
+                listed = sem.values(p) if sem.values is not None else None
+                out += [(*p, *v) for v in listed or ()]
+                out.append((*p, ANY))
+        return list(dict.fromkeys(out))
 
     # --- typed views
 
@@ -845,6 +878,9 @@ class Semantics:
     # and ranges make them few, else None: lets the specification's traces be listed where a term
     # accepts any value (`c?x`).  Set by the engines, which know the ranges.
     values: Callable[[Event], list[tuple] | None] | None = None
+
+    def __post_init__(self) -> None:
+        self.evaluator.semantics = self
 
     def force(self, p: Proc, depth: int = 0) -> Proc:
         if not isinstance(p, Thunk):
