@@ -71,6 +71,8 @@ class Any_:
 
 
 ANY = Any_()
+# The most events of one channel an internal choice over the channel's events takes one by one.
+BRANCHES_LISTED = 3
 
 
 # ---------------------------------------------------------------- event sets
@@ -558,7 +560,8 @@ class Evaluator:
         offers every value of the channel, where CSP has a branch per event, each offering that
         event alone: the traces are the same, but such a branch refuses less. So each of the
         model's channels the closure covers is a branch of its own, and where the engines list
-        the channel's values, each listed event is one too (beside the channel's, which keeps the
+        the channel's values, at most `BRANCHES_LISTED` of them (the specification's states
+        multiply with its branches), each listed event is one too (beside the channel's, which keeps the
         values the listing may miss, such as an output the model computes outside the ranges):
         each branch is one CSP has, or refuses no more than one it has, so a refinement shown
         holds for CSP's choice; a violation shown by a refusal is CSP's too, unless the model
@@ -579,7 +582,8 @@ class Evaluator:
                     out.append(p)
                     continue
                 listed = sem.values(p) if sem.values is not None else None
-                out += [(*p, *v) for v in listed or ()]
+                if listed is not None and len(listed) <= BRANCHES_LISTED:
+                    out += [(*p, *v) for v in listed]
                 out.append((*p, ANY))
         return list(dict.fromkeys(out))
 
