@@ -927,6 +927,43 @@ def test_an_empty_trigger_is_no_trigger_with_a_warning(tmp_path: Path) -> None:
                 [], ["M::f.out", "M::e.in"]], project.files
 
 
+BOUNDARY = """\
+controller C {
+  event go
+  event done
+  sref m = M
+  CONNECTION
+  connection m on done to C on done
+}
+stm M {
+  event go
+  event done
+  initial i
+  state A { }
+  state B { }
+  transition t0 { from i to A }
+  transition t1 { from A to B trigger go action done }
+}
+"""
+BOUNDARY_ASSERTIONS = "assertion R: M::B is reachable in C.\nassertion D: C is deadlock-free.\n"
+
+
+def test_a_machine_to_controller_connection_carries_the_event_the_way_the_machine_uses_it(tmp_path: Path) -> None:
+    """`connection m on go to C on go`, where m only receives `go`: RoboTool's controller renames the
+    machine's whole channel (`m::go <- go`), so the connection carries `go` into m, as the same
+    connection written from C to m does; a warning says so."""
+    reversed_ = load(write_files(tmp_path / "reversed", {
+        "m.rct": BOUNDARY.replace("CONNECTION", "connection m on go to C on go"), "m.assertions": BOUNDARY_ASSERTIONS}))
+    [warning] = reversed_.warnings
+    assert (warning.pos.line, "the other way round" in warning.message) == (5, True), warning
+    plain = load(write_files(tmp_path / "plain", {
+        "m.rct": BOUNDARY.replace("CONNECTION", "connection C on go to m on go"), "m.assertions": BOUNDARY_ASSERTIONS}))
+    assert plain.warnings == ()
+    for project in (reversed_, plain):
+        for results in verdicts_are(project, None, 8, {"R": "holds", "D": "violated"}):
+            assert [[s.event for s in r.trace if s.kind != "internal"] for r in results][0] == ["C::go.in", "C::done.out"]
+
+
 @pytest.mark.parametrize("after", ["", "#C", "<{1}", "action skip"])
 def test_an_empty_trigger_before_each_later_part_of_a_transition(tmp_path: Path, after: str) -> None:
     model = ("stm M {\n  clock C\n  initial i\n  state S0 { }\n  transition t0 { from i to S0 }\n"

@@ -799,6 +799,15 @@ class Resolver:
         if s_ev.type != t_ev.type and not (isinstance(s_ev.type, ast.ErrorType) or isinstance(t_ev.type, ast.ErrorType)):
             self.error(path, tree, f"type error: connection joins '{s_name}.{s_ev.name}' "
                        f"({s_ev.type or 'no value'}) to '{t_name}.{t_ev.name}' ({t_ev.type or 'no value'})")
+        flipped = self._boundary_the_other_way(s_elem, s_ev, t_elem, t_ev) if not mult else None
+        if flipped is not None:
+            # RoboTool's controller renames a machine's channel to its own whole (`stm_ref0::stop <- stop`,
+            # both directions), so a connection between a machine and its controller carries the
+            # event the way the machine uses it, whichever end is written first.
+            self.report(pos_of(path, tree), f"'{flipped}' is used the other way round by its machine: the "
+                        "connection is read in the direction the machine uses it, as RoboTool's controller "
+                        "renames the machine's channel in both directions", "warning")
+            (s_name, s_elem, s_ev), (t_name, t_elem, t_ev) = (t_name, t_elem, t_ev), (s_name, s_elem, s_ev)
         if isinstance(s_elem, ast.StateMachine) and not mult:
             sends, receives = ast.event_directions(s_elem)
             if s_ev.name in receives and s_ev.name not in sends:
@@ -810,6 +819,19 @@ class Resolver:
                 self.error(path, tgt_event, f"'{t_name}' only sends '{t_ev.name}', so it cannot be the target "
                            f"of this connection")
         return ast.Connection(s_name, s_ev, t_name, t_ev, is_async, mult, pos_of(path, tree))
+
+    @staticmethod
+    def _boundary_the_other_way(s_elem: object, s_ev: ast.Event, t_elem: object, t_ev: ast.Event) -> str | None:
+        """The event of a connection between a machine and its own controller written against the
+        way the machine uses it (the machine only receives what it would send, or only sends what
+        it would receive), or None."""
+        if isinstance(s_elem, ast.StateMachine) and t_elem == "self":
+            sends, receives = ast.event_directions(s_elem)
+            return s_ev.name if s_ev.name in receives and s_ev.name not in sends else None
+        if s_elem == "self" and isinstance(t_elem, ast.StateMachine):
+            sends, receives = ast.event_directions(t_elem)
+            return t_ev.name if t_ev.name in sends and t_ev.name not in receives else None
+        return None
 
     # ----------------------------------------------------------------- platforms and modules
 
