@@ -282,7 +282,7 @@ class TransitionSystem:
         if e.kind == "call":
             if e.operation is not None and len(e.operation.parameters) == len(e.args):
                 # each argument in its parameter's type: `op(1)` and `op(x)` on a real parameter carry reals
-                return [(as_type(ev.value(a), p.type), p.type) for a, p in zip(e.args, e.operation.parameters)]
+                return [(as_type(ev.value(a), p.type, a.pos), p.type) for a, p in zip(e.args, e.operation.parameters)]
             return [(ev.value(a), a.type) for a in e.args]
         assert e.event is not None
         t = e.event.type
@@ -292,7 +292,7 @@ class TransitionSystem:
             name = self.network.visible_name(c, e.event.name)
             return [(self.input(names.input_value(name), t), t)]
         assert e.value is not None
-        return [(as_type(ev.value(e.value), t), t)]
+        return [(as_type(ev.value(e.value), t, e.value.pos), t)]
 
     def written_value(self, m: Move) -> Value:
         """The value a write of a shared variable carries (`set`: the whole variable after the
@@ -307,7 +307,7 @@ class TransitionSystem:
         a = e.updates[0]
         new = self.evaluator(c, guards=[]).value(a.value)
         whole = _set_field(self.value(self.slots[c][id(a.variable)][0], t), a.fields, new) if a.fields else new
-        return as_type(whole, t)
+        return as_type(whole, t, a.value.pos)
 
     # ------------------------------------------------------------ declarations
 

@@ -127,11 +127,58 @@ def unpack(x: z3.ExprRef, t: ast.Type) -> Value:
     return {f: unpack(sort.accessor(0, i)(x), ft) for i, (f, ft) in enumerate(fs)}
 
 
-def as_type(v: Value, t: ast.Type) -> Value:
-    """`v` with its integer leaves made reals where `t` has reals (an integer sent on a real event)."""
+def as_type(v: Value, t: ast.Type, pos: ast.Pos) -> Value:
+    """`v` with its integers made reals where `t` has reals (an integer sent on a real event, a
+    `Seq(nat)` cast to a `Seq(real)`: `widened`); `pos` is the expression's, for `Unsupported`."""
     if isinstance(v, dict):
-        return {f: as_type(v[f], ft) for f, ft in parts(t)} if parts(t) else v
-    return _to_real(v) if t == ast.REAL else v
+        return {f: as_type(v[f], ft, pos) for f, ft in parts(t)} if parts(t) else v
+    return widened(v, t, pos)
+
+
+def widened(x: z3.ExprRef, t: ast.Type, pos: ast.Pos) -> z3.ExprRef:
+    """The term `x` as one of `sort_of(t)`, its integers made reals where `t` has reals (the
+    checker casts only where `ast.widens` holds): a real `ToReal(x)`; a sequence its items mapped,
+    `SeqMap(lambda y @ widened(y), x)`; a tuple part by part; a set the reals that are its
+    integers, `lambda r @ is_int(r) and x[to_int(r)]` (`_preimage`)."""
+    target = sort_of(t)
+    if x.sort() == target:
+        return x
+    if t == ast.REAL:
+        return z3.ToReal(x)
+    if isinstance(t, ast.SeqType):
+        sort = x.sort()
+        assert isinstance(sort, z3.SeqSortRef)
+        y = z3.FreshConst(sort.basis(), "widen!item")
+        return z3.SeqMap(z3.Lambda([y], widened(y, t.element, pos)), x)
+    if isinstance(t, ast.SetType):
+        sort = x.sort()
+        assert isinstance(sort, z3.ArraySortRef)
+        r = z3.FreshConst(sort_of(t.element), "widen!member")
+        inside, source = _preimage(r, sort.domain(), t.element, pos)
+        return z3.Lambda([r], z3.And(inside, z3.Select(x, source)))
+    if isinstance(t, ast.ProductType):
+        sort, dt = x.sort(), _datatype(t)
+        assert isinstance(sort, z3.DatatypeSortRef)
+        return dt.constructor(0)(*[widened(sort.accessor(0, i)(x), pt, pos) for i, pt in enumerate(t.parts)])
+    raise Unsupported(pos, f"a value of sort {x.sort()} cast to {t}")  # pragma: no cover - `ast.widens` builds none
+
+
+def _preimage(y: z3.ExprRef, sort: z3.SortRef, t: ast.Type, pos: ast.Pos) -> tuple[z3.BoolRef, z3.ExprRef]:
+    """For `y` of `sort_of(t)`: whether it is `widened(x, t)` for some `x` of `sort`, and that `x`
+    (`widened` is one to one): a real that is an integer, a tuple whose parts are."""
+    if y.sort() == sort:
+        return z3.BoolVal(True), y
+    if t == ast.REAL:
+        assert isinstance(y, z3.ArithRef)
+        return z3.IsInt(y), z3.ToInt(y)
+    if isinstance(t, ast.ProductType) and isinstance(sort, z3.DatatypeSortRef):
+        dt = _datatype(t)
+        found = [_preimage(dt.accessor(0, i)(y), sort.accessor(0, i).range(), pt, pos) for i, pt in enumerate(t.parts)]
+        return z3.And([c for c, _ in found]), sort.constructor(0)(*[x for _, x in found])
+    # a member of a set of sequences (or sets) made reals is one all of whose items are integers:
+    # a quantifier over each member's items, which tockbmc does not build
+    raise Unsupported(pos, f"a set whose members' integers are made reals inside sequences or sets (members of "
+                           f"type {t}): tockbmc converts sets of numbers and of tuples of numbers only")
 
 
 def fresh(name: str, t: ast.Type) -> Value:
@@ -182,7 +229,7 @@ def initially(v: Value, t: ast.Type, expr: ast.Expr, ev: Evaluator, ranges: Rang
         assert isinstance(v, dict)
         given = dict(expr.fields)
         return [c for f, ft in parts(t)
-                for c in ([equal(v[f], as_type(ev.value(given[f]), ft)), *fits(v[f], ft)] if f in given
+                for c in ([equal(v[f], as_type(ev.value(given[f]), ft, given[f].pos)), *fits(v[f], ft)] if f in given
                           else domain(v[f], ft, ranges, f"{path}.{f}"))]
     return [equal(v, ev.value(expr)), *fits(v, t)]
 
@@ -937,8 +984,8 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         member = z3.IsMember(pack(operands[0], set_type.element), xs[1])
         return member if op == "in" else z3.Not(member)
     st = args[0].type
-    if op == "as":  # a cast that changes no value (the checker builds no other)
-        return as_type(operands[0], e.type)
+    if op == "as":  # a cast that changes no value, but its integers to reals (the checker builds no other)
+        return as_type(operands[0], e.type, e.pos)
     if op == "interval":
         low, high, closed_low, closed_high = xs
         i = z3.Int(f"interval!{e.pos.line}:{e.pos.column}")

@@ -296,8 +296,8 @@ def assignable(target: Type, value: Type) -> bool:
         return True
     if isinstance(target, SeqType) and isinstance(value, SeqType) or \
             isinstance(target, SetType) and isinstance(value, SetType):
-        # Elements keep their representation: an integer sequence is not a real one (a literal is
-        # retyped to its place by the checker, `ExprChecker.conform`).
+        # Elements keep their representation: an integer sequence is not a real one. The checker
+        # converts one where a real one is expected (`widens`; `expressions.conform`).
         return assignable(target.element, value.element) and \
             (target.element != REAL or value.element in (REAL, ANY) or isinstance(value.element, ErrorType))
     if isinstance(target, ProductType) and isinstance(value, ProductType):
@@ -313,6 +313,41 @@ def assignable(target: Type, value: Type) -> bool:
     if target in (INT, NAT) and value in (INT, NAT):
         return True
     return False
+
+
+def widens(target: Type, value: Type) -> bool:
+    """Whether a value of type `value` fits a `target` place once its integers are made reals, at
+    any depth of sequences, sets and tuples (RoboTool's `nat` < `int` < `real` inside them too):
+    `Seq(nat)` widens to `Seq(real)`, `Set(int * real)` to `Set(real * real)`.
+
+    Function types do not widen: RoboTool accepts a `nat -> nat` where an `int -> int` is
+    expected, which is unsound for the domain (the function is applied to negative integers it
+    has no value for), so tockbmc keeps `assignable`'s rule for them.  Records are nominal: their
+    fields are converted where a record literal gives them (`ExprChecker._x_record_expr`)."""
+    if isinstance(target, SeqType) and isinstance(value, SeqType) or \
+            isinstance(target, SetType) and isinstance(value, SetType):
+        return widens(target.element, value.element)
+    if isinstance(target, ProductType) and isinstance(value, ProductType):
+        return len(target.parts) == len(value.parts) and \
+            all(widens(a, b) for a, b in zip(target.parts, value.parts, strict=True))
+    return assignable(target, value)
+
+
+def kept_alike(a: Type, b: Type, boxed: bool = False) -> bool:
+    """Whether the engines keep values of `a` and `b` alike, or convert one to the other as they
+    store it: a number is converted (an integer in a real place), but inside a sequence or set
+    (`boxed`) only integers and naturals are alike, and a tuple is one value of its own tuple type
+    (`nat * nat` and `int * int` are not alike there)."""
+    if a == b or isinstance(a, (ErrorType, AnyElement)) or isinstance(b, (ErrorType, AnyElement)):
+        return True
+    if isinstance(a, SeqType) and isinstance(b, SeqType) or isinstance(a, SetType) and isinstance(b, SetType):
+        return kept_alike(a.element, b.element, boxed=True)
+    if isinstance(a, ProductType) and isinstance(b, ProductType):
+        return not boxed and len(a.parts) == len(b.parts) and \
+            all(kept_alike(x, y) for x, y in zip(a.parts, b.parts, strict=True))
+    if isinstance(a, FunctionType) and isinstance(b, FunctionType):
+        return True  # one term of one sort: `assignable` admits no other
+    return a in NUMERIC and b in NUMERIC and (not boxed or (a == REAL) == (b == REAL))
 
 
 def same_representation(a: Type, b: Type) -> bool:

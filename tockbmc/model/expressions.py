@@ -474,8 +474,10 @@ class ExprChecker:
         value = conform(value, target)
         if not ast.assignable(target, value.type):
             self.error(node, f"unsupported: a cast 'as {target}' of a value of type {value.type} "
-                       f"(only casts to a type that holds the value as it is are built)")
+                       f"(only casts to a type that holds the value, its integers made reals, are built)")
             return ast.Literal(ERROR, p, 0)
+        if isinstance(value, ast.Builtin) and value.op == "as" and value.type == target:
+            return ast.Builtin(target, p, "as", value.args)  # `conform` cast it already
         return ast.Builtin(target, p, "as", (value,))
 
     def _arguments(self, node: Tree, name: str, args_nodes: list, params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
@@ -732,6 +734,7 @@ class ExprChecker:
                 return event, "plain", None, None
             value = self._designator_value(parts[1:])
             if event is not None:
+                value = conform(value, event.type) if event.type is not None else value
                 self._check_value(parts[1], event, value)
             return event, "sync", None, value
         event = self.event(node.children[0])
@@ -1038,7 +1041,8 @@ def function_value(f: ast.Function, p: Pos) -> ast.Lambda:
 
 def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:
     """`e` retyped for a place of type `t` where it is a literal whose items fit: `<1, 2>` in a
-    `Seq(real)` place is a sequence of reals, `<>` in a `Seq(nat)` place a sequence of naturals."""
+    `Seq(real)` place is a sequence of reals, `<>` in a `Seq(nat)` place a sequence of naturals;
+    another expression whose integers must become reals to fit (`ast.widens`) cast to `t`."""
     if isinstance(e, ast.SeqLiteral) and isinstance(t, ast.SeqType) or \
             isinstance(e, ast.SetLiteral) and isinstance(t, ast.SetType):
         items = tuple(conform(x, t.element) for x in e.items)  # type: ignore[union-attr]
@@ -1050,6 +1054,10 @@ def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:
             return ast.TupleLiteral(t, e.pos, items)
     if isinstance(e, ast.Literal) and t == REAL and e.type in (NAT, ast.INT) and type(e.value) is int:
         return e  # integers fit real places as they are (the encoders convert)
+    if ast.widens(t, e.type) and not ast.kept_alike(t, e.type):
+        # a `Seq(nat)` where a `Seq(real)` is expected: its items made reals, by a cast (which the
+        # engines encode), as a value keeps its own type's representation
+        return ast.Builtin(t, e.pos, "as", (e,))
     return e
 
 
