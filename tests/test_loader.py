@@ -751,16 +751,6 @@ def test_unsupported_construct_at_its_line(tmp_path: Path, declaration: str, col
     assert located(load_error(tmp_path)) == [("m.rct", 3, column, message)]
 
 
-def test_unsupported_probabilistic_junction(tmp_path: Path) -> None:
-    write_files(tmp_path, {"m.rct": "stm M {\n  initial i\n  probabilistic p\n  state s {}\n"
-                                    "  transition t0 { from i to p }\n"
-                                    "  transition t1 { from p to s probability 1 }\n}\n"})
-    assert located(load_error(tmp_path)) == [
-        ("m.rct", 3, 3, "unsupported: probabilistic junctions"),
-        ("m.rct", 6, 31, "unsupported: probabilistic transitions"),
-    ]
-
-
 # ------------------------------------------------------------------ assertions of one name in several files
 
 

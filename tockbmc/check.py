@@ -25,7 +25,7 @@ from tockbmc.bmc.portfolio import decide
 from tockbmc.bmc.witness import decode, free_fields, initial_choices
 from tockbmc.encodings.composition import Network, network_of
 from tockbmc.encodings.system import TransitionSystem, check_encodable
-from tockbmc.model import ast
+from tockbmc.model import ast, probabilistic
 from tockbmc.model.config import Configuration, configure
 from tockbmc.model.errors import Unsupported
 from tockbmc.model.limits import NO_START, TOO_DEEP_TO_CHECK
@@ -89,6 +89,7 @@ class _Check:
         self.described: dict[str, str] = self.ranges.describe()
         self.constants: dict[str, str] = {}
         self.defaults: dict[str, str] = {}  # what the reading filled in that the element reaches
+        self.notes: tuple[str, ...] = ()  # how the element was read (`model.probabilistic.notes`)
         self.sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
         self.consts: dict[str, ast.Expr] = {}
         self.start = time.perf_counter()
@@ -113,13 +114,13 @@ class _Check:
         return Result(assertion=self.a.label, text=self.a.text, verdict=verdict, bound=self.bound, depth=depth,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=reason,
                       trace=trace, proof=proof, pos=str(self.a.pos), extra=extra or {}, constants=self.constants,
-                      sources=self.sources, reading=self.config.reading, defaults=self.defaults)
+                      sources=self.sources, reading=self.config.reading, defaults=self.defaults, notes=self.notes)
 
     def unsupported(self, exc: Unsupported) -> Result:
         return Result(assertion=self.a.label, text=self.a.text, verdict=Verdict.UNSUPPORTED, bound=None, depth=None,
                       ranges=self.described, seconds=time.perf_counter() - self.start, reason=exc.reason,
                       proof=Proof.NONE, pos=str(self.a.pos), constants=self.constants, sources=self.sources,
-                      reading=self.config.reading, defaults=self.defaults)
+                      reading=self.config.reading, defaults=self.defaults, notes=self.notes)
 
     def run(self, project: ast.Project) -> Result:
         decided = self._run(project)
@@ -172,12 +173,12 @@ class _Check:
             self.described, self.constants, self.sources = (setup.described_ranges, setup.described_constants,
                                                             setup.sources)
             self.defaults = setup.defaults
+            self.notes = probabilistic.notes(*q.reached)
             spec_setup = (self.config.setup(self.a, q.spec_element.element, q.spec_element.settings)
                           if q.spec_element is not None else None)
             self.spec_consts = spec_setup.constants if spec_setup is not None else {}
             self.parameters = setup.parameters + (spec_setup.parameters if spec_setup is not None else ())
-            self.functions = tuple(f.qname for f in ast.free_functions(
-                q.element, q.defined, q.spec_element.element if q.spec_element is not None else None))
+            self.functions = tuple(f.qname for f in ast.free_functions(*q.reached))
             network = self.network = network_of(q.element, dict(q.defined), timed=q.timed)
             check_encodable(network)
             consts = self.consts = setup.constants

@@ -26,7 +26,7 @@ from typing import NamedTuple, cast
 
 from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Split, Step, Unbounded, fill, unknowns
 from tockbmc.explicit.lts import element_lts
-from tockbmc.model import ast
+from tockbmc.model import ast, probabilistic
 from tockbmc.model.config import Configuration, Setup, configure
 from tockbmc.model.data import Variant
 from tockbmc.model.errors import Unsupported
@@ -563,6 +563,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
     constants: dict[str, str] = {}
     sources: dict[str, dict[str, str]] = {"ranges": config.range_sources()}
     defaults: dict[str, str] = {}
+    notes: tuple[str, ...] = ()
 
     def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
         extra: dict[str, object] = ({"states": len(search.depth), "transitions": search.transitions}
@@ -580,7 +581,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
                       bound=bound if verdict != Verdict.UNSUPPORTED else None, ranges=described,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace, proof=proof,
                       engine="explicit", pos=str(a.pos), extra=extra, constants=constants, sources=sources,
-                      reading=config.reading, defaults=defaults)
+                      reading=config.reading, defaults=defaults, notes=notes)
 
     try:
         q = query(project, a)
@@ -589,7 +590,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
         setup = config.setup(a, q.element, q.settings)
         seen.append((q, setup))
         described, constants, sources = setup.described_ranges, setup.described_constants, setup.sources
-        defaults = setup.defaults
+        defaults, notes = setup.defaults, probabilistic.notes(*q.reached)
         consts = python_settings(setup.constants)
 
         def interpreter(lazy: bool) -> Interpreter:
@@ -837,13 +838,14 @@ def included_by_subsets(project: ast.Project, a: ast.Assertion, bound: int, conf
     if q.spec_element is not None:
         q = with_element_spec(q, a, config)
     setup = config.setup(a, q.element, q.settings)
+    notes = probabilistic.notes(*q.reached)
 
     def result(verdict: Verdict, reason: str, trace: tuple = (), more: dict | None = None) -> Result:
         return Result(assertion=a.label, text=a.text, verdict=verdict, bound=bound, ranges=setup.described_ranges,
                       seconds=time.perf_counter() - start, reason=reason, trace=trace,
                       proof=Proof.TRACE if trace else Proof.EXHAUSTIVE, engine="explicit", pos=str(a.pos),
                       extra=more or {}, constants=setup.described_constants, sources=setup.sources,
-                      reading=config.reading, defaults=setup.defaults)
+                      reading=config.reading, defaults=setup.defaults, notes=notes)
 
     try:
         interp = Interpreter(q.element, setup.ranges, python_settings(setup.constants),

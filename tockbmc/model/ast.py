@@ -792,12 +792,14 @@ def parts(*roots: object) -> Iterator[object]:
 
 @dataclass(frozen=True)
 class Node:
-    """A state, initial junction, junction, final state or probabilistic junction.
+    """A state, initial junction, junction or final state.
 
-    `path` is unique within its machine: ancestor names joined by `::`.
+    `path` is unique within its machine: ancestor names joined by `::`.  A probabilistic junction
+    is a junction with `probabilistic` set: its choice is read as a nondeterministic one and its
+    transitions' probabilities are dropped (`model.probabilistic`), so the engines see a junction.
     """
 
-    kind: str  # state | initial | junction | final | probabilistic
+    kind: str  # state | initial | junction | final
     name: str
     path: str
     parent: str | None
@@ -806,6 +808,7 @@ class Node:
     during: Stmt | None = None
     exit: Stmt | None = None
     children: tuple[str, ...] = ()
+    probabilistic: bool = False  # declared `probabilistic` (kind "junction")
 
     @property
     def composite(self) -> bool:

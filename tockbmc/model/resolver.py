@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Callable, Iterable
+from fractions import Fraction
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -21,6 +22,7 @@ from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import Diagnostic, suggestion
 from tockbmc.model.expressions import ExprChecker, Scope, pos_of
 from tockbmc.model.limits import MAX_DECLARATION_CHAIN
+from tockbmc.model.numbers import real_text
 from tockbmc.model.scope import Declaration, FileScope, GlobalTable, qname_text
 
 T = TypeVar("T")
@@ -522,17 +524,21 @@ class Resolver:
                     if kind in actions:
                         self.error(path, a, f"state '{node.name}' has more than one {kind} action")
                     actions[kind] = checker.statement(a.children[0])
-            final_nodes.append(ast.Node(node.kind, node.name, node.path, node.parent, node.pos,
-                                        actions.get("entry"), actions.get("during"), actions.get("exit"),
-                                        node.children))
+            final_nodes.append(dataclasses.replace(node, entry=actions.get("entry"), during=actions.get("during"),
+                                                   exit=actions.get("exit")))
         nodes = final_nodes
         by_path = {n.path: n for n in nodes}
         transitions = []
+        probabilities: dict[str, list[Fraction | None]] = {}  # probabilistic junction -> its transitions' literals
         for ttree, container in self._collect_transitions(tree, None):
-            t = self.transition(scope, ttree, container, by_path, checker)
-            if t is not None:
+            built = self.transition(scope, ttree, container, by_path, checker)
+            if built is not None:
+                t, probability = built
                 transitions.append(t)
+                if by_path[t.source].probabilistic:
+                    probabilities.setdefault(t.source, []).append(probability)
         self._check_structure(path, qname, tree, nodes, transitions)
+        self._check_probabilities(nodes, probabilities)
         fields: dict[str, Any] = dict(qname=qname, pos=pos_of(path, name_of(tree)), variables=tuple(variables),
                       interface_variables=tuple(iface_vars), events=tuple(events), clocks=tuple(clocks),
                       operations=tuple(operations), nodes=tuple(nodes), transitions=tuple(transitions),
@@ -555,16 +561,15 @@ class Resolver:
                 self.error(path, token, f"'{token}' is declared twice in the same region")
                 continue
             names.append(str(token))
-            if item.data == "probabilistic":
-                self.error(path, item, "unsupported: probabilistic junctions")
             index = len(out)
-            out.append(ast.Node(item.data, str(token), npath, parent, pos_of(path, token)))
+            # a probabilistic junction is a junction whose choice is nondeterministic (`model.probabilistic`)
+            probabilistic = item.data == "probabilistic"
+            out.append(ast.Node("junction" if probabilistic else item.data, str(token), npath, parent,
+                                pos_of(path, token), probabilistic=probabilistic))
             raw.append((item, parent))
             if item.data == "state":
                 kids = self._collect_nodes(path, item, npath, out, raw)
-                node = out[index]
-                out[index] = ast.Node(node.kind, node.name, node.path, node.parent, node.pos,
-                                      children=tuple(f"{npath}::{k}" for k in kids))
+                out[index] = dataclasses.replace(out[index], children=tuple(f"{npath}::{k}" for k in kids))
         return names
 
     def _collect_transitions(self, tree: Tree, container: str | None) -> list[tuple[Tree, str | None]]:
@@ -601,7 +606,9 @@ class Resolver:
         return None
 
     def transition(self, scope: FileScope, tree: Tree, container: str | None, by_path: dict[str, ast.Node],
-                   checker: ExprChecker) -> ast.Transition | None:
+                   checker: ExprChecker) -> tuple[ast.Transition, Fraction | None] | None:
+        """The transition `tree` declares, and its probability where that is a number literal (the
+        probability is checked, then dropped: `model.probabilistic`)."""
         path = scope.path
         name = tree.children[0]
         source = self._node_ref(path, tree.children[1], container, by_path)
@@ -610,6 +617,9 @@ class Resolver:
         resets: list[ast.Clock] = []
         deadline = condition = action = None
         is_else = False
+        probability: Tree | None = None
+        literal: Fraction | None = None
+        guard: Tree | None = None  # `condition …`, for the error of one leaving a probabilistic junction
         for item in tree.children[3:]:
             if item.data.startswith("comm_"):
                 event, kind, var, value = checker.communication(item)
@@ -619,7 +629,8 @@ class Resolver:
                 self.report(pos_of(path, item.children[0]), "'trigger' with no event after it (an older RoboChart "
                             "form) is read as no trigger; today's RoboTool requires an event here", "warning")
             elif item.data == "probability":
-                self.error(path, item, "unsupported: probabilistic transitions")
+                probability = item
+                literal = self._probability(path, item.children[0], checker)
             elif item.data == "clock_reset":
                 clock = checker.clock(item.children[0])
                 if clock is not None:
@@ -629,8 +640,10 @@ class Resolver:
                 checker.expect(item.children[0], deadline, NAT, "a deadline")
             elif item.data == "condition":
                 condition = checker.condition(item.children[0])
+                guard = item
             elif item.data == "else_condition":
                 is_else = True
+                guard = item
             elif item.data == "action":
                 action = checker.statement(item.children[0])
         if source is None or target is None:
@@ -642,8 +655,44 @@ class Resolver:
             self.error(path, tree.children[2], f"a transition cannot enter initial junction '{tgt.name}'")
         if src.kind == "initial" and trigger is not None:
             self.error(path, tree, f"the transition from initial junction '{src.name}' cannot have a trigger")
-        return ast.Transition(str(name), source, target, pos_of(path, name), container, trigger, tuple(resets),
-                              deadline, condition, is_else, action)
+        # RoboTool's rules PJ1, PJ2 and PT1 (RoboChartValidator.transitionWFC), errors there too
+        if src.probabilistic and probability is None:
+            self.error(path, name, f"transition '{name}' leaves probabilistic junction '{src.name}', so it must "
+                                   "have a probability")
+        if src.probabilistic and guard is not None:
+            self.error(path, guard, f"transition '{name}' leaves probabilistic junction '{src.name}', so it cannot "
+                                    "have a condition")
+        if probability is not None and not src.probabilistic:
+            self.error(path, probability, f"only a transition from a probabilistic junction has a probability, "
+                                          f"and '{name}' leaves '{src.name}'")
+        return (ast.Transition(str(name), source, target, pos_of(path, name), container, trigger, tuple(resets),
+                               deadline, condition, is_else, action), literal)
+
+    def _probability(self, path: str, tree: Tree, checker: ExprChecker) -> Fraction | None:
+        """Check a transition's `probability e`: a real expression, and, where `e` is a number
+        literal, one from 0 to 1 (RoboTool's rule PT2, an error there for a literal); returns the
+        literal's value (None for any other expression: RoboTool only warns that it might lie outside)."""
+        e = checker.expect(tree, checker.expr(tree), REAL, "a probability")
+        if tree.data not in ("int_lit", "float_lit") or not isinstance(e, ast.Literal) \
+                or isinstance(e.type, ast.ErrorType) or not isinstance(e.value, (int, Fraction)):
+            return None
+        value = Fraction(e.value)
+        if not 0 <= value <= 1:
+            self.error(path, tree, f"a probability must be from 0 to 1, but this is {tree.children[0]}")
+        return value
+
+    def _check_probabilities(self, nodes: list[ast.Node], probabilities: dict[str, list[Fraction | None]]) -> None:
+        """Warn where the literal probabilities of a probabilistic junction's transitions do not add
+        up to 1 (RoboTool's warning PJ3, RoboChartValidator.junctionWFC_PJ3; added exactly here)."""
+        for n in nodes:
+            if not n.probabilistic:
+                continue
+            values = probabilities.get(n.path, [])
+            if all(v is not None for v in values):
+                total = sum((v for v in values if v is not None), Fraction(0))
+                if total != 1:
+                    self.report(n.pos, f"the probabilities of the transitions from probabilistic junction "
+                                       f"'{n.name}' add up to {real_text(total)}, not 1", "warning")
 
     def _check_structure(self, path: str, qname: str, tree: Tree, nodes: list[ast.Node],
                          transitions: list[ast.Transition]) -> None:

@@ -108,6 +108,9 @@ class Result:
     # For a nondeterminism: the second run, with the visible events of `trace` but its last, ending
     # stable where that last event is refused.
     other_trace: tuple[TraceStep, ...] = ()
+    # How the checked elements were read where RoboChart says more than the semantics checked: one
+    # sentence per probabilistic junction they hold (`model.probabilistic.notes`)
+    notes: tuple[str, ...] = ()
 
     @property
     def not_reproduced(self) -> tuple[str, ...]:
@@ -124,6 +127,7 @@ class Result:
             "seconds": round(self.seconds, 4), "reason": self.reason, "pos": self.pos,
             "trace": [s.to_json() for s in self.trace],
             **({"other_trace": [s.to_json() for s in self.other_trace]} if self.other_trace else {}),
+            **({"notes": list(self.notes)} if self.notes else {}),
             **self.extra,
         }
 

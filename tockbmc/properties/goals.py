@@ -94,6 +94,12 @@ class Query:
     spec_element: ElementSpec | None = None
     timed: bool = True  # False: RoboTool's untimed semantics (no tock; `model.untimed` rewrites the element)
 
+    @property
+    def reached(self) -> tuple[object, ...]:
+        """What the check runs: the element, the operations it calls that its controller defines, and
+        the model element on the specification's side, if any."""
+        return (self.element, self.defined, self.spec_element.element if self.spec_element is not None else None)
+
 
 def says(text: str) -> Describe:
     """A description that does not depend on the run."""

@@ -155,6 +155,8 @@ def print_details(results: list[Result], console: Console) -> None:
             console.print(Text(f"  {r.reason}" + (f"  [{r.pos}]" if r.verdict == Verdict.UNSUPPORTED else "")))
         if r.verdict != Verdict.UNSUPPORTED:
             console.print(Text(f"  {configuration(r)}", style="dim"))
+        for note in r.notes:
+            console.print(Text(f"  note: {note}", style="dim"))
         if r.trace:
             print_trace(r, console)
 

@@ -33,7 +33,8 @@ def _nodes_data(b: ast.Behaviour) -> list[Data]:
     """The top-level nodes of `b`, each with its children under "nodes" (a loop: states may nest deeply)."""
     by_path: dict[str, Data] = {}
     for n in b.nodes:
-        data: Data = {"name": n.name, "kind": n.kind, "path": n.path, "pos": _pos(n.pos)}
+        data: Data = {"name": n.name, "kind": "probabilistic" if n.probabilistic else n.kind, "path": n.path,
+                      "pos": _pos(n.pos)}
         for kind in ("entry", "during", "exit"):
             action = getattr(n, kind)
             if action is not None:
