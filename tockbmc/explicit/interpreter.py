@@ -514,6 +514,9 @@ def _ediv(a: int, b: int) -> int:
     return a // b if b > 0 else -(a // -b)
 
 
+# How many times over a recursive function's unfolding a call may go on (model/recursion.py).
+MAX_RECURSION = 25
+
 # Binary operators that are Python's own on the values the interpreter keeps.
 _BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "+": operator.add, "-": operator.sub, "*": operator.mul, "==": operator.eq, "!=": operator.ne,
@@ -792,6 +795,10 @@ class Interpreter:
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
         self._evaluate_by_type = self._evaluators()
+        # recursive functions, by name, for their calls past the unfolding (`model.recursion`)
+        self._recursive = {f.qname: f for f in ast.parts(element, *(defined or {}).values())
+                           if isinstance(f, ast.Function) and f.definition is not None}
+        self._recursing = 0
         if not timed:
             element, defined = untimed(element, defined)
         self.element = element
@@ -1616,6 +1623,8 @@ class Interpreter:
         f = e.function
         if f.unchecked:
             raise NotInterpretable(e.pos, ast.unchecked_function(f))
+        if f.unfolding_of:  # past the unfolding: the recursive function itself, called again
+            return self._ev_recursion(ctx, e, f.unfolding_of)
         table = self._slot_of.get(("fun", f.qname))
         if f.definition is None and table is None:
             raise NotInterpretable(e.pos, f"the uninterpreted function {f.name}")
@@ -1632,6 +1641,20 @@ class Interpreter:
             return self._open_call(ctx, e, f, table, tuple(args), inside)
         finally:
             ctx.bind = saved
+
+    def _ev_recursion(self, ctx: _Ctx, e: ast.Call, name: str) -> Any:
+        """A call of recursive function `name` past the calls its body unfolds: the function's body
+        again, as RoboTool's CSP evaluates it, at most `MAX_RECURSION` times over."""
+        recursive = self._recursive.get(name)
+        if recursive is None:  # pragma: no cover - the unfolding's function is in the model it came from
+            raise NotInterpretable(e.pos, f"{name} called deeper than its unfolding")
+        if self._recursing >= MAX_RECURSION:
+            raise NotInterpretable(e.pos, f"{name} called more than {MAX_RECURSION} times its unfolding deep")
+        self._recursing += 1
+        try:
+            return self._ev_call(ctx, dataclasses.replace(e, function=recursive))
+        finally:
+            self._recursing -= 1
 
     def _ev_result(self, ctx: _Ctx, e: ast.ResultRef) -> Any:
         if ctx.bind is not None and RESULT in ctx.bind:

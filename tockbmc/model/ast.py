@@ -426,6 +426,9 @@ class Function:
     # The first type error of its conditions, which RoboTool does not check there (docs/semantics.md
     # §6.4): the model loads, and a call of the function is `unsupported` with it.
     unchecked: str = ""
+    # The recursive function whose calls past its unfolding this stands for (`model.recursion`):
+    # then it is any function of its signature, in every reading.
+    unfolding_of: str = ""
 
     @property
     def name(self) -> str:

@@ -198,6 +198,10 @@ def fill_unset(project: ast.Project, unread: dict[str, ast.Pos] | None = None
         if f.definition is not None or ast.type_vars(f.result):
             continue
         old[id(f)] = f
+        if f.unfolding_of:
+            filled.append(("function", f.qname, "", f"kept open: {f.unfolding_of}'s calls nested deeper than its "
+                                                    "unfolding", f.pos, id(f)))
+            continue
         original = originals.get(f.qname.split("[", 1)[0])  # a generic function's copy for a call: `g[?X=int]`
         if original is not None and ast.type_vars(original.result):
             filled.append(("function", f.qname, "", "kept open: RoboTool's placeholder for a generic result type "

@@ -17,7 +17,7 @@ from typing import Any, TypeVar
 
 from lark import Token, Tree
 
-from tockbmc.model import ast
+from tockbmc.model import ast, recursion
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import Diagnostic, suggestion
 from tockbmc.model.expressions import ExprChecker, Scope, pos_of
@@ -420,8 +420,15 @@ class Resolver:
         expr_scope = Scope(scope.path, qname, variables={p.name: p for p in params}, result_type=result)
         checker = self.checker(scope, expr_scope, bindings)
         mark = len(self.diagnostics)
-        pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
-        post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
+        # A call of the function inside its own conditions is a call of its signature, open, until
+        # the definition it gives is unfolded into itself (`model.recursion`).
+        own = ast.Function(qname, params, result, (), (), None, pos_of(scope.path, name_of(tree)))
+        self._memo[("function", qname)] = own
+        try:
+            pre = tuple(checker.condition(c.children[0]) for c in children(tree, "precondition"))
+            post = tuple(checker.condition(c.children[0]) for c in children(tree, "postcondition"))
+        finally:
+            del self._memo[("function", qname)]
         # RoboTool does not check types in a function's conditions (turtlebot's `result == v < c`
         # is `(result == v) < c`): their errors make the function's calls unsupported, not the model.
         errors = [d for d in self.diagnostics[mark:] if d.severity == "error" and d.pos.path == scope.path
@@ -435,8 +442,18 @@ class Resolver:
                     definition = cond.right
                 elif isinstance(cond.right, ast.ResultRef):
                     definition = cond.left
-        return ast.Function(qname, params, result, pre, post, None if unchecked else definition,
-                            pos_of(scope.path, name_of(tree)), unchecked)
+        f = ast.Function(qname, params, result, pre, post, None if unchecked else definition,
+                         pos_of(scope.path, name_of(tree)), unchecked)
+        if not recursion.calls((pre, post), own):
+            return f
+        if definition is None or unchecked or recursion.calls(pre, own) or \
+                any(recursion.calls(c, own) for c in post if definition not in (getattr(c, "left", None),
+                                                                                getattr(c, "right", None))):
+            self.error(scope.path, name_of(tree), f"'{qname}' is defined in terms of itself other than by a "
+                                                  "postcondition result == e")
+            return dataclasses.replace(f, definition=None, postconditions=())
+        return recursion.unfolded(dataclasses.replace(f, postconditions=tuple(
+            c for c in post if not recursion.calls(c, own))), own)
 
     # ----------------------------------------------------------------- machines and operations
 
