@@ -66,3 +66,25 @@ def test_a_function_recursive_through_a_precondition_is_refused(tmp_path: Path) 
     with pytest.raises(ModelError) as exc:
         tockbmc.load(write_files(tmp_path, {"m.rct": rct}))
     assert any("defined in terms of itself" in d.message for d in exc.value.diagnostics)
+
+
+def test_a_generic_function_defined_by_recursion_is_unfolded_for_each_instance(tmp_path: Path) -> None:
+    rct = """import sequence_toolkit::*
+function len(s : Seq(?X)) : nat {
+  postcondition result == if size(s) == 0 then 0 else 1 + len(tail(s)) end
+}
+stm M {
+  var q : Seq(int) = <5, 6, 7>
+  var b : Seq(boolean) = <true>
+  initial i
+  state A { }
+  state Good { }
+  state Bad { }
+  transition t0 { from i to A }
+  transition t1 { from A to Good condition len(q) == 3 /\\ len(b) == 1 }
+  transition t2 { from A to Bad condition len(q) != 3 \\/ len(b) != 1 }
+}
+"""
+    project = tockbmc.load(write_files(tmp_path, {"m.rct": rct, "m.assertions": (
+        "assertion Good: M::Good is reachable in M.\nassertion Bad: M::Bad is reachable in M.\n")}))
+    verdicts_are(project, NAT, 10, {"Good": "holds", "Bad": "violated"})
