@@ -435,25 +435,23 @@ class Resolver:
                   and "type error" in d.message]
         self.diagnostics[mark:] = [d for d in self.diagnostics[mark:] if d not in errors]
         unchecked = f"{errors[0].message} ({errors[0].pos})" if errors else ""
-        definition = None
+        definition = defining = None
         for cond in post:
             if isinstance(cond, ast.Binary) and cond.op == "==":
                 if isinstance(cond.left, ast.ResultRef):
-                    definition = cond.right
+                    definition, defining = cond.right, cond
                 elif isinstance(cond.right, ast.ResultRef):
-                    definition = cond.left
+                    definition, defining = cond.left, cond
         f = ast.Function(qname, params, result, pre, post, None if unchecked else definition,
                          pos_of(scope.path, name_of(tree)), unchecked)
         if not recursion.calls((pre, post), own):
             return f
-        if definition is None or unchecked or recursion.calls(pre, own) or \
-                any(recursion.calls(c, own) for c in post if definition not in (getattr(c, "left", None),
-                                                                                getattr(c, "right", None))):
+        others = tuple(c for c in post if c is not defining)
+        if f.definition is None or recursion.calls((pre, others), own):
             self.error(scope.path, name_of(tree), f"'{qname}' is defined in terms of itself other than by a "
                                                   "postcondition result == e")
             return dataclasses.replace(f, definition=None, postconditions=())
-        return recursion.unfolded(dataclasses.replace(f, postconditions=tuple(
-            c for c in post if not recursion.calls(c, own))), own)
+        return recursion.unfolded(dataclasses.replace(f, postconditions=others), own)
 
     # ----------------------------------------------------------------- machines and operations
 
