@@ -771,6 +771,21 @@ def free_functions(*roots: object) -> list[Function]:
     return sorted(found.values(), key=lambda f: f.qname)
 
 
+def tree_size(e: Expr | None, limit: int) -> int:
+    """How many nodes the expression tree has, a part shared by several counted each time (as an
+    engine evaluates it), counted up to just past `limit`."""
+    count = 0
+    todo: list[object] = [] if e is None else [e]
+    while todo and count <= limit:
+        x = todo.pop()
+        if isinstance(x, Expr):
+            count += 1
+            todo += [getattr(x, f.name) for f in dataclasses.fields(x) if f.name not in ("type", "pos")]
+        elif isinstance(x, tuple):
+            todo += list(x)
+    return count
+
+
 def parts(*roots: object) -> Iterator[object]:
     """Every model object `roots` hold, themselves included, each once: the fields of dataclasses
     and the items of tuples, lists, sets and dicts, walked with a stack (models nest deep)."""

@@ -422,13 +422,13 @@ class FunctionBody:
                 built = self._unfold(own, args, pos, 0)
             finally:
                 self.defining = None
-            if built.expr is not None and _nodes(built.expr, MAX_BODY_NODES) + _nodes(built.stuck, MAX_BODY_NODES) \
-                    <= MAX_BODY_NODES:
+            size = ast.tree_size(built.expr, MAX_BODY_NODES) + ast.tree_size(built.stuck, MAX_BODY_NODES)
+            if built.expr is not None and size <= MAX_BODY_NODES:
                 break
         assert built is not None
         if built.expr is None:
             raise NotUnderstood(pos, f"{f.name} gives no value within {self.depth_limit} nested calls")
-        if _nodes(built.expr, MAX_BODY_NODES) > MAX_BODY_NODES:
+        if ast.tree_size(built.expr, MAX_BODY_NODES) > MAX_BODY_NODES:
             raise NotUnderstood(pos, f"{f.name} unfolds to more than {MAX_BODY_NODES} expression nodes")
         body = built.expr
         if not (ast.assignable(f.result, body.type) or _given_number(f.result, body.type)):
@@ -784,22 +784,6 @@ def _all_of(cs: list[ast.Expr]) -> ast.Expr | None:
     for c in cs[1:]:
         out = ast.Binary(ast.BOOLEAN, c.pos, "and", out, c)
     return out
-
-
-def _nodes(e: ast.Expr | None, limit: int) -> int:
-    """How many nodes the expression tree has (shared parts counted each time), counting up to just past `limit`."""
-    if e is None:
-        return 0
-    count = 0
-    todo: list[object] = [e]
-    while todo and count <= limit:
-        x = todo.pop()
-        if isinstance(x, ast.Expr):
-            count += 1
-            todo += [getattr(x, f.name) for f in dataclasses.fields(x) if f.name not in ("type", "pos")]
-        elif isinstance(x, tuple):
-            todo += list(x)
-    return count
 
 
 _DESCRIPTIONS = {"set": "a set", "interval": "a set", "comprehension": "a set", "sequence": "an empty sequence",

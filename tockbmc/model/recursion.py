@@ -33,7 +33,7 @@ def unfolded(f: ast.Function, own: ast.Function) -> ast.Function:
     body = f.definition
     for depth in DEPTHS:
         body = _unfold(f.definition, f, own, cut, depth, 0)
-        if _nodes(body) <= MAX_NODES:
+        if ast.tree_size(body, MAX_NODES) <= MAX_NODES:
             break
     return dataclasses.replace(f, definition=body)
 
@@ -75,17 +75,3 @@ def _bound(f: ast.Function, args: tuple[ast.Expr, ...], body: ast.Expr, level: i
     for t, a in reversed(list(zip(temps, args, strict=True))):
         out = ast.Let(out.type, pos, t, a, out)
     return out
-
-
-def _nodes(e: ast.Expr) -> int:
-    """How many expression nodes `e` has, shared ones counted each time (up to just past `MAX_NODES`)."""
-    count = 0
-    todo: list[object] = [e]
-    while todo and count <= MAX_NODES:
-        x = todo.pop()
-        if isinstance(x, ast.Expr):
-            count += 1
-            todo += [getattr(x, fd.name) for fd in dataclasses.fields(x) if fd.name not in ("type", "pos")]
-        elif isinstance(x, tuple):
-            todo += list(x)
-    return count
