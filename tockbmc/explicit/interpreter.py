@@ -795,9 +795,9 @@ class Interpreter:
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
         self._evaluate_by_type = self._evaluators()
-        # recursive functions, by name, for their calls past the unfolding (`model.recursion`)
-        self._recursive = {f.qname: f for f in ast.parts(element, *(defined or {}).values())
-                           if isinstance(f, ast.Function) and f.definition is not None}
+        # recursive functions, by name, for their calls past the unfolding (`model.recursion`):
+        # found on the first such call, as few models have one
+        self._recursive: dict[str, ast.Function] | None = None
         self._recursing = 0
         if not timed:
             element, defined = untimed(element, defined)
@@ -1645,6 +1645,9 @@ class Interpreter:
     def _ev_recursion(self, ctx: _Ctx, e: ast.Call, name: str) -> Any:
         """A call of recursive function `name` past the calls its body unfolds: the function's body
         again, as RoboTool's CSP evaluates it, at most `MAX_RECURSION` times over."""
+        if self._recursive is None:
+            self._recursive = {f.qname: f for f in ast.parts(self.element, *self.defined.values())
+                               if isinstance(f, ast.Function) and f.definition is not None}
         recursive = self._recursive.get(name)
         if recursive is None:  # pragma: no cover - the unfolding's function is in the model it came from
             raise NotInterpretable(e.pos, f"{name} called deeper than its unfolding")

@@ -491,34 +491,31 @@ class FunctionBody:
         t = arg.type
         assert isinstance(t, ast.SeqType)
 
-        def count(seq: Tree) -> int:
-            return len(_kids(seq))
-
         def items(seq: Tree, from_end: bool) -> list[ast.Expr]:
             """Conditions for the items `<x, …>` of `seq` at the start (or the end) of `arg`."""
             out: list[ast.Expr] = []
             kids = _kids(seq)
             for k, item in enumerate(kids):
                 if from_end:
-                    element = _builtin("last", t.element, pos, _drop_last(arg, len(kids) - 1 - k, t, pos))
+                    element = _builtin("last", t.element, pos, _drop("front", arg, len(kids) - 1 - k, t, pos))
                 else:
-                    element = _builtin("head", t.element, pos, _drop_first(arg, k, t, pos))
+                    element = _builtin("head", t.element, pos, _drop("tail", arg, k, t, pos))
                 out += self._match(d, item, element, scope)
             return out
 
         size = _builtin("size", ast.NAT, pos, arg)
         if p.data == "sequence":
-            n = count(p)
+            n = len(_kids(p))
             return [_compare("==", size, _number(n, pos)), *items(p, False)]
         left, right = _kids(p)
         if isinstance(left, Tree) and left.data == "sequence" and isinstance(right, Tree) and right.data == "name":
-            n = count(left)
+            n = len(_kids(left))
             return [_compare(">=", size, _number(n, pos)), *items(left, False),
-                    *self._match(d, right, _drop_first(arg, n, t, pos), scope)]
+                    *self._match(d, right, _drop("tail", arg, n, t, pos), scope)]
         if isinstance(right, Tree) and right.data == "sequence" and isinstance(left, Tree) and left.data == "name":
-            n = count(right)
+            n = len(_kids(right))
             return [_compare(">=", size, _number(n, pos)), *items(right, True),
-                    *self._match(d, left, _drop_last(arg, n, t, pos), scope)]
+                    *self._match(d, left, _drop("front", arg, n, t, pos), scope)]
         raise NotUnderstood(pos, "a sequence pattern other than <…>, <…>^s or s^<…>")
 
     def _call(self, d: Definition, name: str, args: list[_Built], scope: dict[str, object], pos: ast.Pos,
@@ -551,7 +548,7 @@ class FunctionBody:
         if not isinstance(node, Tree):
             raise NotUnderstood(pos, "unexpected token")
         kind = node.data
-        kids = [c for c in node.children if isinstance(c, (Tree, Token))]
+        kids = _kids(node)
         if kind == "number":
             return _Built(_number(int(str(kids[0])), pos), None)
         if kind in ("true", "false"):
@@ -677,15 +674,10 @@ def _kids(node: Tree) -> list[Node]:
     return [c for c in node.children if isinstance(c, (Tree, Token))]
 
 
-def _drop_first(s: ast.Expr, n: int, t: ast.Type, pos: ast.Pos) -> ast.Expr:
+def _drop(op: str, s: ast.Expr, n: int, t: ast.Type, pos: ast.Pos) -> ast.Expr:
+    """`s` without its first (`tail`) or last (`front`) n items."""
     for _ in range(n):
-        s = _builtin("tail", t, pos, s)
-    return s
-
-
-def _drop_last(s: ast.Expr, n: int, t: ast.Type, pos: ast.Pos) -> ast.Expr:
-    for _ in range(n):
-        s = _builtin("front", t, pos, s)
+        s = _builtin(op, t, pos, s)
     return s
 
 
@@ -743,9 +735,6 @@ def _arith(op: str, left: ast.Expr, right: ast.Expr, pos: ast.Pos) -> ast.Expr:
     return ast.Binary(rtype, pos, op, left, right)
 
 
-_TRUE = ast.Literal(ast.BOOLEAN, ast.Pos("<instantiation>", 1, 1), True)
-
-
 def _not(e: ast.Expr) -> ast.Expr:
     if isinstance(e, ast.Literal) and isinstance(e.value, bool):
         return ast.Literal(ast.BOOLEAN, e.pos, not e.value)
@@ -756,8 +745,6 @@ def _or(a: ast.Expr | None, b: ast.Expr | None) -> ast.Expr | None:
     """Disjunction, where None is false."""
     if a is None or b is None:
         return b if a is None else a
-    if a is _TRUE or b is _TRUE:
-        return _TRUE
     return ast.Binary(ast.BOOLEAN, a.pos, "or", a, b)
 
 
@@ -765,8 +752,6 @@ def _and(a: ast.Expr, b: ast.Expr | None) -> ast.Expr | None:
     """Conjunction of a condition with a stuck condition (None: false)."""
     if b is None:
         return None
-    if b is _TRUE:
-        return a
     return ast.Binary(ast.BOOLEAN, a.pos, "and", a, b)
 
 
