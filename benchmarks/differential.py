@@ -22,7 +22,8 @@ whose literals take parameters (`enumeration V { V0 V1(int) V2(boolean, int) }`)
 every case is a machine whose composite state has a during action, which runs beside its children
 as they move between them (docs/semantics.md §4.1).
 Without these four flags a seed's case is as it was before them.  Definite outcomes are compared, counterexample lengths
-included (see that module); every disagreement is printed with its seed, so that
+included (see that module); two holds of which one or both are only within the engine's bound agree
+as far as the weaker claim goes, and are counted apart ("within a bound"); every disagreement is printed with its seed, so that
 `random_case(seed)` reproduces it.
 """
 
@@ -135,7 +136,8 @@ def main() -> None:
                 print(f"... {counts['cases']} cases: {counts['agree']} agree, {counts['disagree']} disagree "
                       f"({time.perf_counter() - start:.0f} s)", flush=True)
     total = counts["agree"] + counts["disagree"]
-    print(f"{counts['cases']} cases, {total} definite comparisons: {counts['agree']} agree, "
+    print(f"{counts['cases']} cases, {total} comparisons: {counts['agree']} agree "
+          f"({counts['agree within a bound']} of them within a bound), "
           f"{counts['disagree']} disagree; {counts['not comparable']} not comparable; "
           f"{counts['model rejected']} models rejected; {counts['crashed']} crashed; "
           f"{time.perf_counter() - start:.0f} s")
@@ -145,6 +147,7 @@ def _count(seed: int, outcomes: list, counts: collections.Counter[str]) -> None:
     for o in outcomes:
         key = "agree" if o.agree else "disagree" if o.agree is False else "not comparable"
         counts[key] += 1
+        counts["agree within a bound"] += o.bounded
         if o.agree is False:
             print(f"DISAGREE seed {seed} {o.assertion}: bmc {o.bmc}, explicit {o.explicit} {o.note}", flush=True)
 
@@ -174,6 +177,7 @@ def _append(log: Path, key: dict, seed: int, outcomes: list | str | None) -> Non
         kinds = collections.Counter("agree" if o.agree else "disagree" if o.agree is False else "not comparable"
                                     for o in outcomes)
         record.update(kinds)
+        record["agree within a bound"] = sum(o.bounded for o in outcomes)
         record["disagreements"] = [f"{o.assertion}: bmc {o.bmc}, explicit {o.explicit} {o.note}"
                                    for o in outcomes if o.agree is False]
     with log.open("a") as f:
@@ -188,10 +192,13 @@ def _summarise(log: Path) -> None:
         c["cases"] += not r.get("rejected") and "crash" not in r
         c["crashed"] += "crash" in r
         c["model rejected"] += bool(r.get("rejected"))
-        for k in ("agree", "disagree", "not comparable"):
+        for k in ("agree", "agree within a bound", "disagree", "not comparable"):
             c[k] += r.get(k, 0)
     for what, c in totals.items():
-        print(f"{what}\n  {c['cases']} cases: {c['agree']} agree, {c['disagree']} disagree; "
+        outcomes = c["agree"] + c["disagree"] + c["not comparable"]
+        share = f" ({100 * c['not comparable'] / outcomes:.1f} %)" if outcomes else ""
+        print(f"{what}\n  {c['cases']} cases: {c['agree']} agree ({c['agree within a bound']} of them "
+              f"within a bound), {c['disagree']} disagree; {c['not comparable']} not comparable{share}; "
               f"{c['not comparable']} not comparable; {c['model rejected']} models rejected; {c['crashed']} crashed")
 
 

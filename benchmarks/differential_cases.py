@@ -440,8 +440,9 @@ class Outcome:
     assertion: str
     bmc: str
     explicit: str
-    agree: bool | None  # None: not comparable (a bounded verdict, unknown or unsupported)
+    agree: bool | None  # None: not comparable (unknown, unsupported, or a bounded verdict beside another)
     note: str = ""
+    bounded: bool = False  # agree: both say holds, one or both only within its bound
 
 
 def _definite_bmc(r: Result) -> str | None:
@@ -489,6 +490,11 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
         for name, b in symbolic.items():
             e = concrete[name]
             db, de = _definite_bmc(b), _definite_explicit(e)
+            if b.verdict == e.verdict == "holds" and (db is None or de is None) and not b.trace and not e.trace:
+                # Both claim holds, one or both only within its bound (BMC's steps, the explicit
+                # engine's visible steps): the claims agree as far as the weaker one goes.
+                out.append(Outcome(name, b.verdict, e.verdict, True, _bounds(b, e, db, de), bounded=True))
+                continue
             if db is None or de is None or "unsupported" in (b.verdict, e.verdict):
                 out.append(Outcome(name, b.verdict, e.verdict, None))
                 continue
@@ -498,6 +504,12 @@ def compare(rct: str, assertions: str, bound: int = 16, explicit_bound: int = 8,
                 same, note = _same_length(project, name, b, e, bound, timeout, ranges, reading)
             out.append(Outcome(name, b.verdict, e.verdict, same, note))
     return out
+
+
+def _bounds(b: Result, e: Result, db: str | None, de: str | None) -> str:
+    said = [f"bmc {'for every length' if db else f'within {b.bound} steps'}",
+            f"explicit {'for every length' if de else 'within its bound'}"]
+    return "holds: " + ", ".join(said)
 
 
 def _same_length(project: object, name: str, b: Result, e: Result,
