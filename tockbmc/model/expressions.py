@@ -25,6 +25,10 @@ Report = Callable[[Pos, str], None]
 UNSUPPORTED_EXPRESSIONS = {
     "definite_description": "definite descriptions ('the')",
     "is_expr": "toolkits (type tests 'is')",
+    "inverse_expr": "matrix inverses ('inverse')",
+    "transpose_expr": "matrix transposes ('transpose')",
+    "to_expr": "the expression 'to'",
+    "from_expr": "the expression 'from'",
 }
 
 # The toolkit functions built in (RoboTool's sequence_toolkit, set_toolkit and the parts of
@@ -917,6 +921,12 @@ class ExprChecker:
                           for j, pt in enumerate(t.parts, 1))
             return ast.Assign(p, var, fields, ast.TupleLiteral(t, p, items))
         self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
+        return ast.Skip(p)
+
+    def _s_nested_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
+        """`s[i].f = e` or `s[i][j] = e`: RoboChart's assignable chains, whose updates past the
+        first item (a record or sequence inside a sequence's item) are not built yet."""
+        self.error(node, "unsupported: an assignment to a part of an item ('s[i].f = e', 's[i][j] = e')")
         return ast.Skip(p)
 
     def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:

@@ -36,6 +36,20 @@ UNSUPPORTED_TYPES = {
 UNSUPPORTED_DECLARATIONS = {
     "general_controller": "general controllers ('generalcontroller')",
     "general_operation": "general operations ('generaloperation')",
+    "ann_controller": "controllers given by a neural network ('anncontroller')",
+    "ann_operation": "operations given by a neural network ('annoperation')",
+}
+
+# Assertions.xtext's properties for PRISM, parsed so that each is reported where it is written.
+UNSUPPORTED_PROBABILISTIC = {
+    "prob_assertion": "probabilistic properties ('prob')",
+    "prob_constant": "constants of probabilistic properties ('const')",
+    "prob_constants": "constant settings of probabilistic properties ('constants')",
+    "prob_label": "labels of probabilistic properties ('label')",
+    "prob_formula": "formulas of probabilistic properties ('formula')",
+    "prob_rewards": "reward structures of probabilistic properties ('rewards')",
+    "prob_definitions": "definitions of probabilistic properties ('defs')",
+    "prob_modules": "modules of probabilistic properties ('pmodules')",
 }
 
 TOOLKITS = {"relation_toolkit", "sequence_toolkit", "set_toolkit", "function_toolkit", "collection_toolkit",
@@ -993,6 +1007,8 @@ class Resolver:
         for item in tree.children:
             if item.data == "type_instantiation":
                 self.error(path, item, "unsupported: type instantiations ('instantiate')")
+            elif item.data in UNSUPPORTED_PROBABILISTIC:
+                self.error(path, item, f"unsupported: {UNSUPPORTED_PROBABILISTIC[item.data]}")
             elif item.data == "assertion":
                 a = self.assertion(scope, item, process_names)
                 if a is not None:
