@@ -189,3 +189,11 @@ def test_sync_value_is_any_call_expression() -> None:
         ("pair", "TupleLiteral"), ("rec", "RecordLiteral"), ("en", "EnumLiteral"), ("en", "EnumLiteral"),
         ("num", "Call"), ("num", "Since"), ("num", "VarRef"), ("num", "FieldRef"), ("text", "Literal"),
     ]
+
+
+def test_relation_type_groups_a_function_type_on_its_left() -> None:
+    """RoboChart.xtext's `RelationType: FunctionType ('<->' RelationType)?`: `int -> nat <-> boolean`
+    relates functions to booleans (a set of pairs), not integers to relations."""
+    [machine] = load(RULES / "Type.rct").machines
+    g = next(v for v in machine.variables if v.name == "g")
+    assert g.type == ast.SetType(ast.ProductType((ast.FunctionType(ast.INT, ast.NAT), ast.BOOLEAN)))
