@@ -133,6 +133,9 @@ class Search:
                  progress: Callable[[int], None] | None = None):
         self.interp, self.q, self.bound, self.max_states, self.deadline = interp, q, bound, max_states, deadline
         self.progress = progress  # told each number of visible steps the search has got past
+        # Partial-order reduction (`Interpreter.private_steps`): not where the verdict reads the
+        # states internal steps pass through (reachability of a state).
+        self.reduce = q.assertion.kind != "reachable"
         self.reached = -1
         self.context = q.context
         self.monitor: Monitor | None = None
@@ -194,6 +197,14 @@ class Search:
             return self.succ[key]
         config, mon = cast("tuple[Config, int | None]", key)
         hit = self.raw.get(config)
+        known = None
+        # With configurations that split, only one `expand` gave (whose steps read no Unknown) is reduced.
+        if self.reduce and (hit is not None or not self.interp.splits):
+            ample, known = self.interp.private_steps(config)
+            # The cycle proviso: a node whose ample step leads to a node already expanded is expanded
+            # in full, so that on every cycle of the reduced graph the node expanded last is.
+            if ample is not None and not any((st.target, mon) in self.succ for st in ample):
+                hit = (config, ample)
         if hit is None:
             if self.interp.splits:
                 self.parts(config)
@@ -202,7 +213,7 @@ class Search:
                     raise Unsupported(None, "this check of a model with a function it leaves open (or an input "
                                             "read late) needs the configurations the explicit engine splits")
             else:
-                hit = (config, self.interp.steps(config))
+                hit = (config, self.interp.steps(config, known=known))
                 if self.monitor is not None:  # kept for the configuration's other monitor states
                     self.raw[config] = hit
         raw = hit[1]

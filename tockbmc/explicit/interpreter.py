@@ -878,6 +878,11 @@ class Interpreter:
                 self._reg(("fun", f.qname), "fun", None, f.name, None)
         # whether a search must take its nodes from `expand`: Unknowns, or open functions' points, to choose
         self.splits = self.lazy or any(info.kind == "fun" for info in self.slots)
+        # Machines whose internal steps read and write only what no other part of the network
+        # writes or reads (`private_steps`): in a network every variable a machine reads is its own
+        # or its copy of a shared one (`_vkey`), which the memory writes; constants do not change.
+        self._private = () if len(self.insts) < 2 else tuple(
+            i for i in range(len(self.insts)) if not any(i in cp.readers for cp in self.copies))
         self._tdl: dict[int, list[tuple[int, int, ast.Transition]]] = defaultdict(list)
         for key, s in self._slot_of.items():
             if key[0] == "tdl":
@@ -2463,12 +2468,34 @@ class Interpreter:
             if u is not None:
                 raise NeedValue(u)
 
-    def steps(self, config: Config, inputs: Mapping[tuple, tuple] | None = None) -> list[Step]:
-        """Every step possible from `config` (docs/semantics.md §3.2)."""
+    def private_steps(self, config: Config) -> tuple[list[Step] | None, dict[int, list[tuple]]]:
+        """The internal steps of the first machine that can take only internal steps, each of which
+        reads and writes only the machine's own configuration and store, or None; with the moves
+        computed on the way (for `steps`).
+
+        Such steps commute with every step of the rest of the network, and none of the rest can
+        disable them (the machine's part of the configuration changes only by its own steps), nor
+        can tock pass while they are possible (internal steps are urgent). Taking them first loses
+        no visible trace, no stable configuration and its refusals, and no divergence: an ample set
+        of partial-order reduction (conditions C0-C2; the search keeps C3, the cycle proviso)."""
+        known: dict[int, list[tuple]] = {}
+        if config.done:
+            return None, known
+        for i in self._private:
+            ms = known[i] = self._moves(config, i)
+            if ms and all(m[0] == "tau" for m in ms):
+                return [Step("internal", None, self._config(config, [(i, frames, upd)]), note)
+                        for _, note, (frames, upd) in ms], known
+        return None, known
+
+    def steps(self, config: Config, inputs: Mapping[tuple, tuple] | None = None,
+              known: dict[int, list[tuple]] | None = None) -> list[Step]:
+        """Every step possible from `config` (docs/semantics.md §3.2); `known`: moves of some
+        machines, already computed for this configuration."""
         if config.done:
             return []
         n = len(self.insts)
-        moves = [self._moves(config, i) for i in range(n)]
+        moves = [known[i] if known and i in known else self._moves(config, i) for i in range(n)]
         steps: list[Step] = []
         urgent = False
         # receivers of synchronous machine-to-machine links, by port
