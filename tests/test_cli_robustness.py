@@ -128,7 +128,7 @@ def test_symbols_a_narrow_encoding_lacks_are_spelt_in_ascii(tmp_path: Path) -> N
     assert "violated <=> core_int.low <= -1" in text(out), text(out)
     out, err = latin(), latin()
     assert run_main(["show", write_files(tmp_path, NARROW_MODEL)], out, err) == 3, text(err)
-    assert "m.rct:4:41: error: unknown name 'x'\n    transition t0 { from i to s condition x } // début -> fin\n" \
+    assert "m.rct:4:41: error: unknown name 'x' [RoboTool rule linking]\n    transition t0 { from i to s condition x } // début -> fin\n" \
         in text(err)
 
 

@@ -145,7 +145,8 @@ def test_undefined_event_and_type_error_both_reported(tmp_path: Path) -> None:
         ("m.rct", 11, 56, "type error: a condition must be boolean, but this is int"),
     ]
     assert len(exc.diagnostics) == 2
-    assert str(exc.diagnostics[0]) == f"{tmp_path / 'm.rct'}:11:41: error: unknown event 'pong'; did you mean 'ping'?"
+    assert str(exc.diagnostics[0]) == (f"{tmp_path / 'm.rct'}:11:41: error: unknown event 'pong'; did you mean "
+                                       "'ping'? [RoboTool rule linking]")
 
 
 def test_cli_exits_3_with_both_errors(tmp_path: Path) -> None:

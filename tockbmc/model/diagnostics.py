@@ -7,18 +7,21 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from tockbmc.model.position import Pos
+from tockbmc.model.rules import cite
 
 
 @dataclass(frozen=True)
 class Diagnostic:
-    """One problem: where it is and what it is."""
+    """One problem: where it is, what it is, and the RoboTool rule it enforces (`model.rules`;
+    '' for a warning, an `unsupported` construct or a problem with the files themselves)."""
 
     pos: Pos
     message: str
     severity: str = "error"
+    rule: str = ""
 
     def __str__(self) -> str:
-        return f"{self.pos}: {self.severity}: {self.message}"
+        return f"{self.pos}: {self.severity}: {self.message}{cite(self.rule)}"
 
 
 class ModelError(Exception):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from lark import Token, Tree
 
@@ -17,9 +18,14 @@ from tockbmc.model import ast
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import suggestion
 from tockbmc.model.numbers import max_digits, parse_int, parse_real
+from tockbmc.model.rules import GRAMMAR, LIMIT, LINKING, TYPING
 from tockbmc.model.scope import qname_text
 
-Report = Callable[[Pos, str], None]
+
+class Report(Protocol):
+    """Where an `ExprChecker` sends a problem (`Resolver.report`)."""
+
+    def __call__(self, pos: Pos, message: str, severity: str = "error", rule: str = "") -> None: ...
 
 # Constructs of the expression language that docs/language.md §6 lists as unsupported.
 UNSUPPORTED_EXPRESSIONS = {
@@ -98,22 +104,24 @@ class ExprChecker:
     def pos(self, node: Tree | Token) -> Pos:
         return pos_of(self.scope.path, node)
 
-    def error(self, node: Tree | Token, message: str) -> None:
-        self.report(self.pos(node), message)
+    def error(self, node: Tree | Token, message: str, rule: str = "") -> None:
+        """An error at `node`, citing the RoboTool rule (`model.rules`) it enforces."""
+        self.report(self.pos(node), message, rule=rule)
 
-    def expect(self, node: Tree | Token, e: ast.Expr, expected: ast.Type, what: str) -> ast.Expr:
-        """`e`, checked to fit a place of type `expected` (a literal retyped to it, `conform`)."""
+    def expect(self, node: Tree | Token, e: ast.Expr, expected: ast.Type, what: str, rule: str = TYPING) -> ast.Expr:
+        """`e`, checked to fit a place of type `expected` (a literal retyped to it, `conform`);
+        `rule` is RoboTool's check of that place (`VarInitType` for an initial value)."""
         e = conform(e, expected)
         if not ast.assignable(expected, e.type):
-            self.error(node, f"type error: {what} must be {expected}, but this is {e.type}")
+            self.error(node, f"type error: {what} must be {expected}, but this is {e.type}", rule=rule)
         return e
 
-    def condition(self, node: Tree) -> ast.Expr:
+    def condition(self, node: Tree, rule: str = TYPING) -> ast.Expr:
         e = self.expr(node)
-        return self.expect(node, e, BOOLEAN, "a condition")
+        return self.expect(node, e, BOOLEAN, "a condition", rule)
 
     def _unknown(self, node: Tree | Token, what: str, name: str, known: list[str]) -> None:
-        self.error(node, f"unknown {what} '{name}'{suggestion(name, known)}")
+        self.error(node, f"unknown {what} '{name}'{suggestion(name, known)}", rule=LINKING)
 
     # ----------------------------------------------------------------- expressions
 
@@ -121,7 +129,7 @@ class ExprChecker:
         """Resolve and type-check one expression tree."""
         p = self.pos(node)
         if isinstance(node, Token):  # pragma: no cover - the grammar wraps tokens
-            self.error(node, "syntax error: expected an expression")
+            self.error(node, "syntax error: expected an expression", rule=GRAMMAR)
             return ast.Literal(ERROR, p, 0)
         kind = node.data
         if kind in UNSUPPORTED_EXPRESSIONS:
@@ -146,7 +154,7 @@ class ExprChecker:
         return ast.Literal(REAL, p, value)
 
     def _too_long(self, node: Tree, p: Pos) -> ast.Expr:
-        self.error(node, f"number literal too long: at most {max_digits()} digits")
+        self.error(node, f"number literal too long: at most {max_digits()} digits", rule=LIMIT)
         return ast.Literal(ERROR, p, 0)
 
     def _x_bool_lit(self, node: Tree, p: Pos) -> ast.Expr:
@@ -158,7 +166,7 @@ class ExprChecker:
 
     def _x_result_expr(self, node: Tree, p: Pos) -> ast.Expr:
         if self.scope.result_type is None:
-            self.error(node, "'result' is only meaningful in a function's postcondition")
+            self.error(node, "'result' is only meaningful in a function's postcondition", rule=TYPING)
             return ast.ResultRef(ERROR, p)
         return ast.ResultRef(self.scope.result_type, p)
 
@@ -178,7 +186,7 @@ class ExprChecker:
         if isinstance(function, ast.Function) and not function.generic and function.parameters:
             return function_value(function, p)
         if name in self.scope.events:
-            self.error(node, f"'{name}' is an event, not a value")
+            self.error(node, f"'{name}' is an event, not a value", rule=LINKING)
             return ast.Literal(ERROR, p, 0)
         known = list(self.scope.variables) + self.scope.global_names("enum_literal")
         self._unknown(node, "name", name, known)
@@ -189,7 +197,7 @@ class ExprChecker:
         wanted = enum.parameters(literal)
         if wanted:
             self.report(p, f"'{literal}' takes {len(wanted)} argument(s) ({', '.join(map(str, wanted))}): "
-                           f"write {literal}(…)")
+                           f"write {literal}(…)", rule="IncorrectNumberOfArguments")
             return ast.Literal(ERROR, p, 0)
         return ast.EnumLiteral(enum, p, enum, literal)
 
@@ -210,7 +218,7 @@ class ExprChecker:
             if literal in enum.literals:
                 return self._bare_literal(p, enum, literal)
             self.report(p, f"enumeration {enum.name} has no literal '{literal}'"
-                        f"{suggestion(literal, list(enum.literals))}")
+                        f"{suggestion(literal, list(enum.literals))}", rule=LINKING)
             return ast.Literal(ERROR, p, 0)
         return None
 
@@ -220,13 +228,13 @@ class ExprChecker:
         if isinstance(record.type, ast.ErrorType):
             return ast.FieldRef(ERROR, p, record, field_name)
         if not isinstance(record.type, ast.RecordType):
-            self.error(node, f"type error: '.{field_name}' selects a field, but this is {record.type}, not a record")
+            self.error(node, f"type error: '.{field_name}' selects a field, but this is {record.type}, not a record", rule=LINKING)
             return ast.FieldRef(ERROR, p, record, field_name)
         ftype = record.type.field_type(field_name)
         if ftype is None:
             known = [f.name for f in record.type.fields]
             self.error(node.children[1], f"record {record.type.name} has no field "
-                       f"'{field_name}'{suggestion(field_name, known)}")
+                       f"'{field_name}'{suggestion(field_name, known)}", rule=LINKING)
             return ast.FieldRef(ERROR, p, record, field_name)
         return ast.FieldRef(ftype, p, record, field_name)
 
@@ -243,9 +251,9 @@ class ExprChecker:
             ftype = rtype.field_type(fname)
             if ftype is None:
                 self.error(fd, f"record {rtype.name} has no field '{fname}'"
-                           f"{suggestion(fname, [f.name for f in rtype.fields])}")
+                           f"{suggestion(fname, [f.name for f in rtype.fields])}", rule=LINKING)
                 continue
-            values[fname] = self.expect(fd.children[1], value, ftype, f"field '{fname}'")
+            values[fname] = self.expect(fd.children[1], value, ftype, f"field '{fname}'", rule="FieldDefinitionTypeError")
         return ast.RecordLiteral(rtype, p, tuple(values.items()))
 
     def _x_not_expr(self, node: Tree, p: Pos) -> ast.Expr:
@@ -258,7 +266,7 @@ class ExprChecker:
         if _dims(operand.type):
             return _elementwise(p, operand.type, lambda k: _neg(p, _part(p, operand, k)))
         if not ast.is_numeric(operand.type):
-            self.error(node, f"type error: '-' needs a number, but this is {operand.type}")
+            self.error(node, f"type error: '-' needs a number, but this is {operand.type}", rule=TYPING)
             return ast.Unary(ERROR, p, "-", operand)
         rtype = INT if operand.type == NAT else operand.type
         return ast.Unary(rtype, p, "-", operand)
@@ -274,7 +282,7 @@ class ExprChecker:
         if op in _EQUALITY:  # a literal takes the other side's type (`s == <>`: `<>` a Seq(Skills))
             left, right = conform(left, right.type), conform(right, left.type)
             if not ast.comparable(left.type, right.type):
-                self.error(node, f"type error: cannot compare {left.type} with {right.type}")
+                self.error(node, f"type error: cannot compare {left.type} with {right.type}", rule=TYPING)
             return ast.Binary(BOOLEAN, p, op, left, right)
         if op in _ORDER:
             if self.scope.result_type is not None and isinstance(left.type, ast.GivenType) and left.type == right.type:
@@ -284,14 +292,14 @@ class ExprChecker:
                 return ast.Binary(BOOLEAN, p, op, left, right)
             for side, e in ((left_node, left), (right_node, right)):
                 if not ast.is_numeric(e.type):
-                    self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}")
+                    self.error(side, f"type error: '{op}' compares numbers, but this is {e.type}", rule=TYPING)
             return ast.Binary(BOOLEAN, p, op, left, right)
         assert op in _ARITHMETIC
         if op in ("+", "-", "*") and (_dims(left.type) or _dims(right.type)):
             return self._linear(node, p, op, left, right)
         for side, e in ((left_node, left), (right_node, right)):
             if not ast.is_numeric(e.type):
-                self.error(side, f"type error: '{op}' needs numbers, but this is {e.type}")
+                self.error(side, f"type error: '{op}' needs numbers, but this is {e.type}", rule=TYPING)
                 return ast.Binary(ERROR, p, op, left, right)
         rtype = ast.numeric_join(left.type, right.type)
         if op == "-" and rtype == NAT:
@@ -309,12 +317,12 @@ class ExprChecker:
         if isinstance(left.type, ast.ErrorType) or isinstance(right.type, ast.ErrorType):
             return ast.Literal(ERROR, p, 0)  # reported where it arose
         if a is None or b is None:
-            self.error(node, f"type error: '{op}' cannot take {left.type} and {right.type}")
+            self.error(node, f"type error: '{op}' cannot take {left.type} and {right.type}", rule=TYPING)
             return ast.Literal(ERROR, p, 0)
         if op in ("+", "-"):
             if a != b:
                 self.error(node, f"type error: '{op}' needs two vectors or matrices of one shape, but these are "
-                                 f"{left.type} and {right.type}")
+                                 f"{left.type} and {right.type}", rule=TYPING)
                 return ast.Literal(ERROR, p, 0)
             return _pointwise(p, op, left, right)
         if not a or not b:  # a number times a vector or matrix
@@ -334,7 +342,7 @@ class ExprChecker:
                                     [_part(p, _part(p, right, k), j) for k in range(1, a[1] + 1)]) for j in range(1, b[1] + 1)]
                     items.append(ast.TupleLiteral(_tuple_type(entries), p, tuple(entries)))
             return ast.TupleLiteral(_tuple_type(items), p, tuple(items))
-        self.error(node, f"type error: '*' cannot multiply {left.type} by {right.type} (their sizes do not match)")
+        self.error(node, f"type error: '*' cannot multiply {left.type} by {right.type} (their sizes do not match)", rule=TYPING)
         return ast.Literal(ERROR, p, 0)
 
     def _x_if_expr(self, node: Tree, p: Pos) -> ast.Expr:
@@ -345,7 +353,7 @@ class ExprChecker:
         elif ast.comparable(a.type, b.type):
             rtype = b.type if isinstance(a.type, ast.ErrorType) else a.type
         else:
-            self.error(node, f"type error: the branches of 'if' have types {a.type} and {b.type}")
+            self.error(node, f"type error: the branches of 'if' have types {a.type} and {b.type}", rule=TYPING)
             rtype = ERROR
         return ast.IfExpr(rtype, p, c, a, b)
 
@@ -370,7 +378,7 @@ class ExprChecker:
             var = self.scope.variables.get(name)
             if var is not None:
                 if not isinstance(var.type, ast.ErrorType):  # else its type was already reported
-                    self.error(callee, f"'{name}' is a variable of type {var.type}, not a function")
+                    self.error(callee, f"'{name}' is a variable of type {var.type}, not a function", rule=TYPING)
             elif self._is_literal(name):
                 enum = (self.scope.resolve_global(name, "enum_literal") if "::" not in name
                         else self.scope.resolve_global(name.rpartition("::")[0], "type"))
@@ -384,7 +392,7 @@ class ExprChecker:
                     return ast.EnumLiteral(enum, p, enum, literal, args)
                 self.error(callee, f"'{name}' is an enumeration literal without parameters")
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
-                self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression")
+                self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression", rule=LINKING)
             elif self.scope.toolkit:  # after the literals: `V1(0)` is a literal with a toolkit imported too
                 self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
                            f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
@@ -398,7 +406,7 @@ class ExprChecker:
             bindings: dict[str, ast.Type] = {}
             if not all(ast.unify(q.type, a.type, bindings) for q, a in zip(function.parameters, args, strict=True)):
                 self.error(node, f"type error: the arguments of '{name}' give one generic type two types: "
-                           f"{', '.join(str(a.type) for a in args)}")
+                           f"{', '.join(str(a.type) for a in args)}", rule=TYPING)
                 return ast.Literal(ERROR, p, 0)
             unbound = sorted(set().union(ast.type_vars(function.result), *(ast.type_vars(q.type) for q in function.parameters))
                              - set(bindings))
@@ -421,13 +429,13 @@ class ExprChecker:
         if isinstance(t, ast.ErrorType):
             return ast.Literal(ERROR, p, 0)
         if not isinstance(t, ast.FunctionType):
-            self.error(node.children[0], f"type error: only functions can be called, but this is {t}")
+            self.error(node.children[0], f"type error: only functions can be called, but this is {t}", rule=TYPING)
             return ast.Literal(ERROR, p, 0)
         wanted = t.arguments if len(args) != 1 else (t.domain,)
         if len(args) != len(wanted):
-            self.error(node, f"a function of type {t} takes {len(wanted)} argument(s), but {len(args)} given")
+            self.error(node, f"a function of type {t} takes {len(wanted)} argument(s), but {len(args)} given", rule="IncorrectNumberOfArguments")
             return ast.Literal(ERROR, p, 0)
-        args = tuple(self.expect(a_node, a, w, "an argument") for a_node, a, w in zip(args_nodes, args, wanted, strict=True))
+        args = tuple(self.expect(a_node, a, w, "an argument", rule="UndefinedTypeInArguments") for a_node, a, w in zip(args_nodes, args, wanted, strict=True))
         return ast.Apply(t.range, p, value, args)
 
     def _x_lambda_expr(self, node: Tree, p: Pos) -> ast.Expr:
@@ -490,9 +498,9 @@ class ExprChecker:
     def _check_arguments(self, node: Tree, name: str, args_nodes: list, args: tuple[ast.Expr, ...],
                          params: tuple[ast.Variable, ...]) -> tuple[ast.Expr, ...]:
         if len(args) != len(params):
-            self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given")
+            self.error(node, f"'{name}' takes {len(params)} argument(s), but {len(args)} given", rule="IncorrectNumberOfArguments")
             return args
-        return tuple(self.expect(a_node, a, param.type, f"argument '{param.name}' of '{name}'")
+        return tuple(self.expect(a_node, a, param.type, f"argument '{param.name}' of '{name}'", rule="UndefinedTypeInArguments")
                      for a_node, a, param in zip(args_nodes, args, params, strict=True))
 
     # ----------------------------------------------------------------- sequences, sets, tuples
@@ -515,7 +523,7 @@ class ExprChecker:
             elif ast.assignable(x.type, t):
                 t = x.type
             else:
-                self.error(node, f"type error: the items of {what} have types {t} and {x.type}")
+                self.error(node, f"type error: the items of {what} have types {t} and {x.type}", rule=TYPING)
                 return ERROR
         return t
 
@@ -536,7 +544,7 @@ class ExprChecker:
     def _x_tuple_expr(self, node: Tree, p: Pos) -> ast.Expr:
         items = self._items(node)
         if len(items) < 2:
-            self.error(node, "a tuple has at least two parts")
+            self.error(node, "a tuple has at least two parts", rule=GRAMMAR)
             return ast.Literal(ERROR, p, 0)
         if any(isinstance(x.type, ast.ErrorType) for x in items):
             return ast.TupleLiteral(ERROR, p, tuple(items))
@@ -547,7 +555,7 @@ class ExprChecker:
         low, high = self.expr(node.children[0]), self.expr(node.children[1])
         for side, e in zip(node.children, (low, high), strict=True):
             if e.type not in (NAT, ast.INT) and not isinstance(e.type, ast.ErrorType):
-                self.error(side, f"type error: the bounds of '{{a to b}}' must be integers, but this is {e.type}")
+                self.error(side, f"type error: the bounds of '{{a to b}}' must be integers, but this is {e.type}", rule=TYPING)
                 return ast.Literal(ERROR, p, 0)
         t = ast.numeric_join(low.type, high.type)
         if isinstance(t, ast.ErrorType):
@@ -569,7 +577,7 @@ class ExprChecker:
         if len(rows) == 1:
             return rows[0]
         if len({len(r.items) for r in rows}) != 1:
-            self.error(node, "type error: the rows of a matrix have different lengths")
+            self.error(node, "type error: the rows of a matrix have different lengths", rule=TYPING)
             return ast.Literal(ERROR, p, 0)
         return ast.TupleLiteral(ast.ProductType(tuple(r.type for r in rows)), p, tuple(rows))
 
@@ -586,15 +594,15 @@ class ExprChecker:
             return ast.Index(ERROR, p, value, index)
         if isinstance(t, ast.SeqType):
             if index.type not in (ast.NAT, ast.INT):
-                self.error(indices[0], f"type error: a sequence's index must be an integer, but this is {index.type}")
+                self.error(indices[0], f"type error: a sequence's index must be an integer, but this is {index.type}", rule=TYPING)
             return ast.Index(t.element, p, value, index)
         if isinstance(t, ast.ProductType):
             if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
-                self.error(indices[0], f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
+                self.error(indices[0], f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}", rule="TupleIndexOutOfBounds")
                 return ast.Index(ERROR, p, value, index)
             assert isinstance(index.value, int)
             return ast.Index(t.parts[index.value - 1], p, value, index)
-        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
+        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}", rule=TYPING)
         return ast.Index(ERROR, p, value, index)
 
     def _x_cat_expr(self, node: Tree, p: Pos) -> ast.Expr:
@@ -607,7 +615,7 @@ class ExprChecker:
 
     def _toolkit_call(self, node: Tree, p: Pos, name: str, args: list[ast.Expr]) -> ast.Expr:
         if len(args) != TOOLKIT_FUNCTIONS[name]:
-            self.error(node, f"'{name}' takes {TOOLKIT_FUNCTIONS[name]} argument(s), but {len(args)} given")
+            self.error(node, f"'{name}' takes {TOOLKIT_FUNCTIONS[name]} argument(s), but {len(args)} given", rule="IncorrectNumberOfArguments")
             return ast.Literal(ERROR, p, 0)
         return self._builtin(node, p, name, args)
 
@@ -618,7 +626,7 @@ class ExprChecker:
             return ast.Builtin(ERROR, p, op, tuple(args))
         t = builtin_type(op, [a.type for a in args])
         if t is None:
-            self.error(node, f"type error: '{op}' cannot take {', '.join(str(a.type) for a in args)}")
+            self.error(node, f"type error: '{op}' cannot take {', '.join(str(a.type) for a in args)}", rule=TYPING)
             return ast.Builtin(ERROR, p, op, tuple(args))
         if op in (*_JOINED, *_COMPARED, "filter") and isinstance(args[0].type, (ast.SeqType, ast.SetType)):
             args = [conform(a, t if op in _JOINED else a.type) for a in args]
@@ -705,7 +713,7 @@ class ExprChecker:
         low, high = self.expr(node.children[0]), self.expr(node.children[1])
         for side, e in zip(node.children[:2], (low, high)):
             if not ast.is_numeric(e.type):
-                self.error(side, f"type error: an interval bound must be a number, but this is {e.type}")
+                self.error(side, f"type error: an interval bound must be a number, but this is {e.type}", rule=TYPING)
         high_closed = node.children[2].data == "closed"
         return ast.Interval(ast.numeric_join(low.type, high.type) if ast.is_numeric(low.type) and ast.is_numeric(high.type) else ERROR,
                             p, low, high, low_closed, high_closed)
@@ -751,10 +759,10 @@ class ExprChecker:
                 self.error(node.children[1], f"'{name}' is a constant: an input cannot change it")
             elif event is not None:
                 if event.type is None:
-                    self.error(node, f"event '{event.name}' carries no value, so '?{name}' has nothing to receive")
+                    self.error(node, f"event '{event.name}' carries no value, so '?{name}' has nothing to receive", rule="Tg5")
                 elif not ast.assignable(var.type, event.type):
                     self.error(node.children[1], f"type error: '{name}' is {var.type}, but event "
-                               f"'{event.name}' carries {event.type}")
+                               f"'{event.name}' carries {event.type}", rule="InputCommunicationTypeError")
             return event, "input", var, None
         value = self.expr(node.children[1])
         if event is not None:
@@ -776,16 +784,16 @@ class ExprChecker:
             if ftype is not None:
                 return ast.FieldRef(ftype, p, record, fname)
             self.error(node, f"record {record.type.name} has no field '{fname}'"
-                       f"{suggestion(fname, [f.name for f in record.type.fields])}")
+                       f"{suggestion(fname, [f.name for f in record.type.fields])}", rule=LINKING)
         elif not isinstance(record.type, ast.ErrorType):
-            self.error(node, f"type error: '.{fname}' selects a field, but this is {record.type}")
+            self.error(node, f"type error: '.{fname}' selects a field, but this is {record.type}", rule=LINKING)
         return ast.FieldRef(ERROR, p, record, fname)
 
     def _check_value(self, node: Tree | Token, event: ast.Event, value: ast.Expr) -> None:
         if event.type is None:
-            self.error(node, f"event '{event.name}' carries no value")
+            self.error(node, f"event '{event.name}' carries no value", rule="Tg5")
         elif not ast.assignable(event.type, value.type):
-            self.error(node, f"type error: event '{event.name}' carries {event.type}, but this is {value.type}")
+            self.error(node, f"type error: event '{event.name}' carries {event.type}, but this is {value.type}", rule="OutputCommunicationTypeError")
 
     # ----------------------------------------------------------------- statements
 
@@ -810,7 +818,7 @@ class ExprChecker:
         return ast.Deadline(p, inner, bound)
 
     def _s_if_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
-        cond = self.condition(node.children[0])
+        cond = self.condition(node.children[0], rule="IfStmtTypeError")
         then = self.statement(node.children[1])
         otherwise = self.statement(node.children[2]) if len(node.children) > 2 else ast.Skip(p)
         return ast.If(p, cond, then, otherwise)
@@ -823,9 +831,9 @@ class ExprChecker:
         if isinstance(arg, ast.Interval):
             low, high = arg.low, arg.high
             for e in (low, high):
-                self.expect(node.children[0], e, NAT, "a wait bound")
+                self.expect(node.children[0], e, NAT, "a wait bound", rule="WaitTypeError")
             return ast.Wait(p, low, high)
-        self.expect(node.children[0], arg, NAT, "a wait duration")
+        self.expect(node.children[0], arg, NAT, "a wait duration", rule="WaitTypeError")
         return ast.Wait(p, arg, arg)
 
     def _s_clock_reset(self, node: Tree, p: Pos) -> ast.Stmt:
@@ -853,7 +861,7 @@ class ExprChecker:
             return ast.Receive(p, event, var)
         if kind == "plain" and event.type is not None:
             self.error(node, f"event '{event.name}' carries {event.type}: send a value with "
-                       f"'{event.name}!v'")
+                       f"'{event.name}!v'", rule="Tg2")
         return ast.Send(p, event, value)
 
     def _assignable(self, designator: Tree) -> tuple[ast.Variable, tuple[str, ...], ast.Expr] | None:
@@ -885,7 +893,7 @@ class ExprChecker:
         value = conform(value, target.type)
         if not ast.assignable(target.type, value.type):
             self.error(node.children[1], f"type error: cannot assign {value.type} to "
-                       f"'{'.'.join([name, *fields])}' of type {target.type}")
+                       f"'{'.'.join([name, *fields])}' of type {target.type}", rule="AssignmentTypeError")
         return ast.Assign(p, var, fields, value)
 
     def _s_array_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
@@ -907,20 +915,20 @@ class ExprChecker:
         [index] = indices
         if isinstance(t, ast.SeqType):
             if index.type not in (NAT, ast.INT):
-                self.error(indices_node, f"type error: a sequence's index must be an integer, but this is {index.type}")
-            item = self.expect(value_node, value, t.element, "the item assigned")
+                self.error(indices_node, f"type error: a sequence's index must be an integer, but this is {index.type}", rule=TYPING)
+            item = self.expect(value_node, value, t.element, "the item assigned", rule="AssignmentTypeError")
             return ast.Assign(p, var, fields, ast.Builtin(t, p, "update", (target, index, item)))
         if isinstance(t, ast.ProductType):
             if not (isinstance(index, ast.Literal) and type(index.value) is int and 1 <= index.value <= len(t.parts)):
-                self.error(indices_node, f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}")
+                self.error(indices_node, f"a tuple's part is chosen by a literal from 1 to {len(t.parts)}", rule="TupleIndexOutOfBounds")
                 return ast.Skip(p)
             k = index.value
             assert isinstance(k, int)
-            item = self.expect(value_node, value, t.parts[k - 1], f"part {k}")
+            item = self.expect(value_node, value, t.parts[k - 1], f"part {k}", rule="AssignmentTypeError")
             items = tuple(item if j == k else ast.Index(pt, p, target, ast.Literal(NAT, p, j))
                           for j, pt in enumerate(t.parts, 1))
             return ast.Assign(p, var, fields, ast.TupleLiteral(t, p, items))
-        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}")
+        self.error(node, f"type error: only sequences and tuples are indexed, but this is {t}", rule=TYPING)
         return ast.Skip(p)
 
     def _s_nested_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
@@ -951,20 +959,20 @@ class ExprChecker:
         if isinstance(iface, ast.Interface):
             if iface.qname not in self.scope.interfaces:
                 self.error(node, f"interface '{iface_name}' is not required, provided or used by {self.scope.owner}: "
-                           f"require it to call '{op_name}(…)'")
+                           f"require it to call '{op_name}(…)'", rule=LINKING)
                 return None
             op = next((o for o in iface.operations if o.name == op_name), None)
             if op is None:
                 self.error(node, f"interface '{iface_name}' declares no operation '{op_name}'"
-                           f"{suggestion(op_name, [o.name for o in iface.operations])}")
+                           f"{suggestion(op_name, [o.name for o in iface.operations])}", rule=LINKING)
             return op
         op = self.scope.operations.get(name)
         if op is not None:
             return op
         if isinstance(self.scope.resolve_global(name, "function"), ast.Function):
-            self.error(node, f"'{name}' is a function: use it in an expression")
+            self.error(node, f"'{name}' is a function: use it in an expression", rule=LINKING)
         elif self.scope.resolve_global(name, "operation") is not None:
-            self.error(node, f"operation '{name}' is not in scope: require an interface that declares '{name}(…)'")
+            self.error(node, f"operation '{name}' is not in scope: require an interface that declares '{name}(…)'", rule=LINKING)
         else:
             known = list(self.scope.operations)
             if iface_name:  # an unknown interface: offer the calls through the caller's interfaces

@@ -20,9 +20,10 @@ from lark import Token, Tree
 from tockbmc.model import ast, recursion
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import Diagnostic, suggestion
-from tockbmc.model.expressions import ExprChecker, Scope, pos_of
+from tockbmc.model.expressions import ExprChecker, Scope, conform, pos_of
 from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 from tockbmc.model.numbers import real_text
+from tockbmc.model.rules import LIMIT, LINKING, UNIQUE
 from tockbmc.model.scope import Declaration, FileScope, GlobalTable, qname_text
 
 T = TypeVar("T")
@@ -85,11 +86,12 @@ class Resolver:
 
     # ----------------------------------------------------------------- reporting
 
-    def report(self, pos: Pos, message: str, severity: str = "error") -> None:
-        self.diagnostics.append(Diagnostic(pos, message, severity))
+    def report(self, pos: Pos, message: str, severity: str = "error", rule: str = "") -> None:
+        self.diagnostics.append(Diagnostic(pos, message, severity, rule))
 
-    def error(self, path: str, node: Tree | Token, message: str) -> None:
-        self.report(pos_of(path, node), message)
+    def error(self, path: str, node: Tree | Token, message: str, rule: str = "") -> None:
+        """An error at `node`, citing the RoboTool rule (`model.rules`) it enforces."""
+        self.report(pos_of(path, node), message, rule=rule)
 
     def memo(self, kind: str, qname: str, build: Callable[[], T], path: str, node: Tree | Token) -> T | None:
         key = (kind, qname)
@@ -100,7 +102,7 @@ class Resolver:
             return None
         if len(self._in_progress) >= MAX_DECLARATION_CHAIN:  # each one waits for the next: a chain
             self.error(path, node, f"'{qname}' is defined through a chain of more than {MAX_DECLARATION_CHAIN} "
-                                   "declarations (a record inside a record…, a function calling a function…)")
+                                   "declarations (a record inside a record…, a function calling a function…)", rule=LIMIT)
             return None
         self._in_progress.add(key)
         try:
@@ -135,7 +137,7 @@ class Resolver:
                 earlier = self.table.add(decl)
                 if earlier is not None:
                     e_pos = pos_of(earlier.file.path, name_of(earlier.tree))
-                    self.error(path, token, f"'{decl.qname}' is already declared at {e_pos}")
+                    self.error(path, token, f"'{decl.qname}' is already declared at {e_pos}", rule=UNIQUE)
         # Packages must exist for imports to make sense.
         # RoboTool ignores an import it cannot resolve; say so, but load.
         packages = {s.package for s in self._scopes.values() if s.package}
@@ -194,7 +196,7 @@ class Resolver:
         decl = self.table.lookup(scope, name, ("primitive_type", "record_type", "enumeration"))
         if decl is None:
             known = list(BUILTIN_TYPES) + self.table.names(("primitive_type", "record_type", "enumeration"))
-            self.error(scope.path, node, f"unknown type '{name}'{suggestion(name, known)}")
+            self.error(scope.path, node, f"unknown type '{name}'{suggestion(name, known)}", rule=LINKING)
             return ERROR
         return self.type_decl(decl) or ERROR
 
@@ -232,7 +234,7 @@ class Resolver:
                     if len(lit.children) > 1 and parameterised is None:
                         parameterised = pos_of(scope.path, lit)
                     if str(token) in literals:
-                        self.error(scope.path, token, f"duplicate literal '{token}'")
+                        self.error(scope.path, token, f"duplicate literal '{token}'", rule=UNIQUE)
                         continue
                     literals.append(str(token))
                     params.append(tuple(self.type_of(scope, c) for c in lit.children[1:]))
@@ -243,7 +245,7 @@ class Resolver:
             for f in tree.children[1:]:
                 fname = str(f.children[0])
                 if fname in seen:
-                    self.error(scope.path, f.children[0], f"duplicate field '{fname}'")
+                    self.error(scope.path, f.children[0], f"duplicate field '{fname}'", rule=UNIQUE)
                 seen.add(fname)
                 fields.append(ast.RecordField(fname, self.type_of(scope, f.children[1])))
             return ast.RecordType(decl.qname, tuple(fields))
@@ -322,7 +324,7 @@ class Resolver:
                 if checker is None:
                     checker = self.checker(scope, Scope(scope.path, owner))
                 initial = checker.expr(v.children[2])
-                initial = checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'")
+                initial = checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'", rule="VarInitType")
             result.append(ast.Variable(str(name), vtype, constant, owner, pos_of(scope.path, name), initial, kind))
         return result
 
@@ -356,7 +358,7 @@ class Resolver:
         name = qname_text(node)
         decl = self.table.lookup(scope, name, ("interface",))
         if decl is None:
-            self.error(scope.path, node, f"unknown interface '{name}'{suggestion(name, self.table.names(('interface',)))}")
+            self.error(scope.path, node, f"unknown interface '{name}'{suggestion(name, self.table.names(('interface',)))}", rule=LINKING)
             return None
         return self.interface(decl)
 
@@ -387,7 +389,7 @@ class Resolver:
         seen: dict[str, ast.Pos] = {}
         for item in items:
             if item.name in seen:
-                self.report(item.pos, f"'{item.name}' is declared twice in {where} (first at {seen[item.name]})")
+                self.report(item.pos, f"'{item.name}' is declared twice in {where} (first at {seen[item.name]})", rule=UNIQUE)
             else:
                 seen[item.name] = item.pos
 
@@ -531,7 +533,7 @@ class Resolver:
         own = {v.name for v in (*variables, *params)}
         for e in events:
             if e.owner == qname and e.name in own:
-                self.report(e.pos, f"'{e.name}' names both an event and a variable of {qname}")
+                self.report(e.pos, f"'{e.name}' names both an event and a variable of {qname}", rule=UNIQUE)
         expr_scope.events = {e.name: e for e in events}
         expr_scope.clocks = {c.name: c for c in clocks}
         expr_scope.operations = {o.name: o for o in operations}
@@ -551,7 +553,7 @@ class Resolver:
             for kind in ("entry", "during", "exit"):
                 for a in children(ntree, kind):
                     if kind in actions:
-                        self.error(path, a, f"state '{node.name}' has more than one {kind} action")
+                        self.error(path, a, f"state '{node.name}' has more than one {kind} action", rule="S2")
                     actions[kind] = checker.statement(a.children[0])
             final_nodes.append(dataclasses.replace(node, entry=actions.get("entry"), during=actions.get("during"),
                                                    exit=actions.get("exit")))
@@ -587,7 +589,7 @@ class Resolver:
             token = item.children[0]
             npath = f"{parent}::{token}" if parent else str(token)
             if str(token) in names:
-                self.error(path, token, f"'{token}' is declared twice in the same region")
+                self.error(path, token, f"'{token}' is declared twice in the same region", rule=UNIQUE)
                 continue
             names.append(str(token))
             index = len(out)
@@ -623,15 +625,15 @@ class Resolver:
         if len(matches) == 1:
             return matches[0]
         if len(matches) > 1:
-            self.error(path, node, f"'{name}' is ambiguous here: it may be {', '.join(sorted(matches))}")
+            self.error(path, node, f"'{name}' is ambiguous here: it may be {', '.join(sorted(matches))}", rule=LINKING)
             return None
         outside = [p for p in by_path if p == name or p.endswith("::" + name)]
         if outside:
             self.error(path, node, f"a transition declared in state '{container}' must stay inside it, "
-                       f"but '{name}' is outside")
+                       f"but '{name}' is outside", rule=LINKING)
             return None
         known = [p.rsplit("::", 1)[-1] for p in by_path]
-        self.error(path, node, f"unknown state or junction '{name}'{suggestion(name, known)}")
+        self.error(path, node, f"unknown state or junction '{name}'{suggestion(name, known)}", rule=LINKING)
         return None
 
     def transition(self, scope: FileScope, tree: Tree, container: str | None, by_path: dict[str, ast.Node],
@@ -668,7 +670,7 @@ class Resolver:
                 deadline = checker.expr(item.children[0])
                 checker.expect(item.children[0], deadline, NAT, "a deadline")
             elif item.data == "condition":
-                condition = checker.condition(item.children[0])
+                condition = checker.condition(item.children[0], rule="TransitionConditionTypeError")
                 guard = item
             elif item.data == "else_condition":
                 is_else = True
@@ -679,35 +681,40 @@ class Resolver:
             return None
         src, tgt = by_path[source], by_path[target]
         if src.kind == "final":
-            self.error(path, tree.children[1], f"a transition cannot leave final state '{src.name}'")
+            self.error(path, tree.children[1], f"a transition cannot leave final state '{src.name}'", rule="FS1")
         if tgt.kind == "initial":
-            self.error(path, tree.children[2], f"a transition cannot enter initial junction '{tgt.name}'")
+            self.error(path, tree.children[2], f"a transition cannot enter initial junction '{tgt.name}'", rule="IJ1")
         if src.kind == "initial" and trigger is not None:
-            self.error(path, tree, f"the transition from initial junction '{src.name}' cannot have a trigger")
+            self.error(path, tree, f"the transition from initial junction '{src.name}' cannot have a trigger", rule="J3")
         # RoboTool's rules PJ1, PJ2 and PT1 (RoboChartValidator.transitionWFC), errors there too
         if src.probabilistic and probability is None:
             self.error(path, name, f"transition '{name}' leaves probabilistic junction '{src.name}', so it must "
-                                   "have a probability")
+                                   "have a probability", rule="PJ1")
         if src.probabilistic and guard is not None:
             self.error(path, guard, f"transition '{name}' leaves probabilistic junction '{src.name}', so it cannot "
-                                    "have a condition")
+                                    "have a condition", rule="PJ2")
         if probability is not None and not src.probabilistic:
             self.error(path, probability, f"only a transition from a probabilistic junction has a probability, "
-                                          f"and '{name}' leaves '{src.name}'")
+                                          f"and '{name}' leaves '{src.name}'", rule="PT1")
         return (ast.Transition(str(name), source, target, pos_of(path, name), container, trigger, tuple(resets),
                                deadline, condition, is_else, action), literal)
 
     def _probability(self, path: str, tree: Tree, checker: ExprChecker) -> Fraction | None:
         """Check a transition's `probability e`: a real expression, and, where `e` is a number
         literal, one from 0 to 1 (RoboTool's rule PT2, an error there for a literal); returns the
-        literal's value (None for any other expression: RoboTool only warns that it might lie outside)."""
-        e = checker.expect(tree, checker.expr(tree), REAL, "a probability")
+        literal's value (None for any other expression: RoboTool only warns that it might lie outside).
+        One that is not a number is a warning, as RoboTool warns of it (PT2, "might not be between 0
+        to 1") and checks no type there; tockbmc drops probabilities, so no check reads it."""
+        e = conform(checker.expr(tree), REAL)
+        if not ast.assignable(REAL, e.type) and not isinstance(e.type, ast.ErrorType):
+            self.report(pos_of(path, tree), f"a probability should be real, but this is {e.type}", "warning")
+            return None
         if tree.data not in ("int_lit", "float_lit") or not isinstance(e, ast.Literal) \
                 or isinstance(e.type, ast.ErrorType) or not isinstance(e.value, (int, Fraction)):
             return None
         value = Fraction(e.value)
         if not 0 <= value <= 1:
-            self.error(path, tree, f"a probability must be from 0 to 1, but this is {tree.children[0]}")
+            self.error(path, tree, f"a probability must be from 0 to 1, but this is {tree.children[0]}", rule="PT2")
         return value
 
     def _check_probabilities(self, nodes: list[ast.Node], probabilities: dict[str, list[Fraction | None]]) -> None:
@@ -732,7 +739,7 @@ class Resolver:
         for t in transitions:
             if (t.container, t.name) in seen:
                 where = f"state '{t.container}'" if t.container else qname
-                self.report(t.pos, f"transition '{t.name}' is declared twice in {where}")
+                self.report(t.pos, f"transition '{t.name}' is declared twice in {where}", rule=UNIQUE)
             seen.add((t.container, t.name))
         for region, members in regions.items():
             where = f"state '{region}'" if region else qname
@@ -746,10 +753,10 @@ class Resolver:
                 out = [t for t in transitions if t.source == init.path]
                 if len(out) != 1:
                     self.report(init.pos, f"initial junction '{init.name}' must have exactly one transition, "
-                                f"but has {len(out)}")
+                                f"but has {len(out)}", rule="IJ2")
                 for t in out:
                     if self._parent(t.target) != region:
-                        self.report(t.pos, f"the initial transition of {where} must stay in its region")
+                        self.report(t.pos, f"the initial transition of {where} must stay in its region", rule="T1")
 
     @staticmethod
     def _parent(node_path: str) -> str | None:
@@ -798,7 +805,7 @@ class Resolver:
                 m_decl = self.table.lookup(scope, qname_text(target), ("stm_def",))
                 if m_decl is None:
                     t = qname_text(target)
-                    self.error(path, target, f"unknown state machine '{t}'{suggestion(t, self.table.names(('stm_def',)))}")
+                    self.error(path, target, f"unknown state machine '{t}'{suggestion(t, self.table.names(('stm_def',)))}", rule=LINKING)
                     continue
                 m = self.machine(m_decl)
                 if m is not None:
@@ -813,7 +820,7 @@ class Resolver:
                 o_decl = self.table.lookup(scope, qname_text(target), ("operation_def",))
                 if o_decl is None:
                     t = qname_text(target)
-                    self.error(path, target, f"unknown operation '{t}'{suggestion(t, self.table.names(('operation_def',)))}")
+                    self.error(path, target, f"unknown operation '{t}'{suggestion(t, self.table.names(('operation_def',)))}", rule=LINKING)
                     continue
                 op = self.operation(o_decl)
                 if op is not None:
@@ -846,10 +853,10 @@ class Resolver:
             for e in inst.operation.events:
                 if e.name in sends and e.name in inputs - outputs:
                     self.report(e.pos, f"operation '{inst.operation.name}' sends '{e.name}', but controller "
-                                f"'{me}' only receives it")
+                                f"'{me}' only receives it", rule="Cn8")
                 elif e.name in receives and e.name in outputs - inputs:
                     self.report(e.pos, f"operation '{inst.operation.name}' receives '{e.name}', but controller "
-                                f"'{me}' only sends it")
+                                f"'{me}' only sends it", rule="Cn9")
 
     def connection(self, path: str, tree: Tree, ends: dict[str, object], own_events: dict[str, ast.Event]) -> ast.Connection | None:
         src_node, src_event, tgt_node, tgt_event = tree.children[:4]
@@ -860,14 +867,14 @@ class Resolver:
             end_name = qname_text(end_node)
             element = ends.get(end_name)
             if element is None:
-                self.error(path, end_node, f"unknown connection {role} '{end_name}'{suggestion(end_name, list(ends))}")
+                self.error(path, end_node, f"unknown connection {role} '{end_name}'{suggestion(end_name, list(ends))}", rule=LINKING)
                 resolved.append(None)
                 continue
             element_events = own_events if element == "self" else {e.name: e for e in _events_of(element)}
             event = element_events.get(str(event_token))
             if event is None:
                 self.error(path, event_token, f"'{end_name}' has no event '{event_token}'"
-                           f"{suggestion(str(event_token), list(element_events))}")
+                           f"{suggestion(str(event_token), list(element_events))}", rule=LINKING)
                 resolved.append(None)
                 continue
             resolved.append((end_name, element, event))
@@ -876,7 +883,7 @@ class Resolver:
         (s_name, s_elem, s_ev), (t_name, t_elem, t_ev) = resolved  # type: ignore[misc]
         if s_ev.type != t_ev.type and not (isinstance(s_ev.type, ast.ErrorType) or isinstance(t_ev.type, ast.ErrorType)):
             self.error(path, tree, f"type error: connection joins '{s_name}.{s_ev.name}' "
-                       f"({s_ev.type or 'no value'}) to '{t_name}.{t_ev.name}' ({t_ev.type or 'no value'})")
+                       f"({s_ev.type or 'no value'}) to '{t_name}.{t_ev.name}' ({t_ev.type or 'no value'})", rule="RPConnectionIncompatibleType")
         flipped = self._boundary_the_other_way(s_elem, s_ev, t_elem, t_ev) if not mult else None
         if flipped is not None:
             # RoboTool's controller renames a machine's channel to its own whole (`stm_ref0::stop <- stop`,
@@ -890,12 +897,12 @@ class Resolver:
             sends, receives = ast.event_directions(s_elem)
             if s_ev.name in receives and s_ev.name not in sends:
                 self.error(path, src_event, f"'{s_name}' only receives '{s_ev.name}', so it cannot be the source "
-                           f"of this connection")
+                           f"of this connection", rule="Cn9")
         if isinstance(t_elem, ast.StateMachine) and not mult:
             sends, receives = ast.event_directions(t_elem)
             if t_ev.name in sends and t_ev.name not in receives:
                 self.error(path, tgt_event, f"'{t_name}' only sends '{t_ev.name}', so it cannot be the target "
-                           f"of this connection")
+                           f"of this connection", rule="Cn8")
         return ast.Connection(s_name, s_ev, t_name, t_ev, is_async, mult, pos_of(path, tree))
 
     @staticmethod
@@ -955,18 +962,18 @@ class Resolver:
         for item in tree.children[1:]:
             if item.data == "platform_def":
                 if platform is not None:
-                    self.error(path, item, "a module has one robotic platform")
+                    self.error(path, item, "a module has one robotic platform", rule="M1")
                 inner = Declaration("platform_def", f"{qname}::{name_of(item)}", item, scope)
                 platform = self.platform_decl(inner)
                 platform_name = str(name_of(item))
             elif item.data == "platform_ref":
                 if platform is not None:
-                    self.error(path, item, "a module has one robotic platform")
+                    self.error(path, item, "a module has one robotic platform", rule="M1")
                 ref_name, target = item.children
                 p_decl = self.table.lookup(scope, qname_text(target), ("platform_def",))
                 if p_decl is None:
                     t = qname_text(target)
-                    self.error(path, target, f"unknown robotic platform '{t}'{suggestion(t, self.table.names(('platform_def',)))}")
+                    self.error(path, target, f"unknown robotic platform '{t}'{suggestion(t, self.table.names(('platform_def',)))}", rule=LINKING)
                     continue
                 platform = self.platform_decl(p_decl)
                 platform_name = str(ref_name)
@@ -980,7 +987,7 @@ class Resolver:
                 c_decl = self.table.lookup(scope, qname_text(target), ("controller_def",))
                 if c_decl is None:
                     t = qname_text(target)
-                    self.error(path, target, f"unknown controller '{t}'{suggestion(t, self.table.names(('controller_def',)))}")
+                    self.error(path, target, f"unknown controller '{t}'{suggestion(t, self.table.names(('controller_def',)))}", rule=LINKING)
                     continue
                 c = self.controller(c_decl)
                 if c is not None:
@@ -990,7 +997,7 @@ class Resolver:
             elif item.data in UNSUPPORTED_DECLARATIONS:
                 self.error(path, item, f"unsupported: {UNSUPPORTED_DECLARATIONS[item.data]}")
         if platform is None:
-            self.error(path, name_of(tree), f"module '{qname}' has no robotic platform")
+            self.error(path, name_of(tree), f"module '{qname}' has no robotic platform", rule="M1")
         ends: dict[str, object] = {c.name: c.controller for c in controllers}
         if platform is not None and platform_name is not None:
             ends[platform_name] = platform
@@ -1107,7 +1114,7 @@ class Resolver:
                 nodes = [n for b in _behaviours_of(element) for n in b.nodes]
                 if not any(subject == n.path or subject.endswith("::" + n.path) for n in nodes):
                     known = [n.path for n in nodes]
-                    self.error(path, subject_node, f"'{other}' has no state '{subject}'{suggestion(subject, known)}")
+                    self.error(path, subject_node, f"'{other}' has no state '{subject}'{suggestion(subject, known)}", rule=LINKING)
         elif kind == "clock-initialised":
             pass  # reported as unsupported by the checker, with the rest of the untimed forms
         else:
@@ -1128,7 +1135,7 @@ class Resolver:
 
     def _unknown_process(self, path: str, node: Tree, name: str, process_names: set[str]) -> None:
         known = self.element_names() + sorted(process_names)
-        self.error(path, node, f"unknown machine, controller, module or process '{name}'{suggestion(name, known)}")
+        self.error(path, node, f"unknown machine, controller, module or process '{name}'{suggestion(name, known)}", rule=LINKING)
 
     def _settings(self, scope: FileScope, tree: Tree) -> tuple[ast.ConstantSetting, ...]:
         result = []
@@ -1140,7 +1147,7 @@ class Resolver:
             value = checker.expr(value_node)
             if element is None:
                 self.error(scope.path, element_node, f"unknown machine, controller or module '{element_name}'"
-                           f"{suggestion(element_name, self.element_names())}")
+                           f"{suggestion(element_name, self.element_names())}", rule=LINKING)
                 continue
             if s.data == "parameter_setting":
                 what = "parameter"
@@ -1151,7 +1158,7 @@ class Resolver:
             const = constants.get(str(const_token))
             if const is None:
                 self.error(scope.path, const_token, f"'{element_name}' has no {what} '{const_token}'"
-                           f"{suggestion(str(const_token), list(constants))}")
+                           f"{suggestion(str(const_token), list(constants))}", rule=LINKING)
                 continue
             checker.expect(value_node, value, const.type, f"the value of constant '{const_token}'")
             result.append(ast.ConstantSetting(str(const_token), element_name, value, pos_of(scope.path, s), what))
@@ -1248,7 +1255,7 @@ class Resolver:
         for a in assertions:
             key = (a.pos.path, a.name)
             if key in seen:
-                self.report(a.pos, f"assertion '{a.name}' is declared twice (first at {seen[key]})")
+                self.report(a.pos, f"assertion '{a.name}' is declared twice (first at {seen[key]})", rule=UNIQUE)
                 continue
             seen[key] = a.pos
             files.setdefault(a.name, []).append(a.pos.path)
