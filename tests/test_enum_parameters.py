@@ -12,6 +12,7 @@ from conftest import both_engines, write_files
 
 from tockbmc import ModelError, Project, load
 from tockbmc.check import check
+from tockbmc.model import ast
 from tockbmc.model.config import ConfigError, configure
 from tockbmc.model.ranges import Range, Ranges
 from tockbmc.model.result import Verdict
@@ -85,7 +86,7 @@ def test_unbounded_parameters_in_bmc(tmp_path: Path) -> None:
     ("EM3", "'EM3' takes 1 argument(s) (nat): write EM3(…)"),
     ("EM3(true)", "type error: argument '1' of 'EM3' must be nat, but this is boolean"),
     ("EM3(1, 2)", "'EM3' takes 1 argument(s), but 2 given"),
-    ("EM1(1)", "'EM1' is an enumeration literal without parameters"),
+    ("EM1(1)", "unsupported: arguments given to 'EM1', an enumeration literal without parameters"),
 ])
 def test_misused_literals_are_load_errors(tmp_path: Path, expr: str, message: str) -> None:
     model = MODEL.replace("var o : EM = EM3(1)", f"var o : EM = {expr}")
@@ -93,6 +94,16 @@ def test_misused_literals_are_load_errors(tmp_path: Path, expr: str, message: st
         load(write_files(tmp_path / "m", {"m.rct": model}))
     assert any(d.message == message and d.pos.line == 9 for d in info.value.diagnostics), \
         [d.message for d in info.value.diagnostics]
+
+
+def test_a_literal_without_parameters_called_with_none_is_the_literal_with_a_warning(tmp_path: Path) -> None:
+    """`EM1()`: RoboTool warns (ParameterlessConstructorWithCall) and reads EM1; so does tockbmc."""
+    model = MODEL.replace("var o : EM = EM3(1)", "var o : EM = EM1()")
+    project = load(write_files(tmp_path / "m", {"m.rct": model}))
+    [warning] = [d for d in project.warnings if "EM1" in d.message]
+    assert warning.severity == "warning" and warning.pos.line == 9
+    [o] = [v for m in project.machines for v in m.variables if v.name == "o"]
+    assert isinstance(o.initial, ast.EnumLiteral) and o.initial.literal == "EM1"
 
 
 def test_a_constant_cannot_be_set_to_a_literal_with_parameters(tmp_path: Path) -> None:

@@ -390,7 +390,18 @@ class ExprChecker:
                     if any(isinstance(a.type, ast.ErrorType) for a in args) or len(args) != len(params):
                         return ast.Literal(ERROR, p, 0)
                     return ast.EnumLiteral(enum, p, enum, literal, args)
-                self.error(callee, f"'{name}' is an enumeration literal without parameters")
+                if isinstance(enum, ast.EnumType) and literal in enum.literals:
+                    # RoboTool warns (ParameterlessConstructorWithCall) and reads the literal
+                    self.report(self.pos(callee), f"'{name}' is an enumeration literal without parameters: "
+                                                  f"write it without '()'", "warning")
+                    for a in args_nodes:
+                        self.expr(a)
+                    if args_nodes:  # RoboTool only warns here too, and gives them no meaning
+                        self.error(node, f"unsupported: arguments given to '{name}', an enumeration literal "
+                                         "without parameters")
+                        return ast.Literal(ERROR, p, 0)
+                    return ast.EnumLiteral(enum, p, enum, literal)
+                self.error(callee, f"'{name}' is an enumeration literal without parameters", rule=TYPING)
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression", rule=LINKING)
             elif self.scope.toolkit:  # after the literals: `V1(0)` is a literal with a toolkit imported too
@@ -756,7 +767,8 @@ class ExprChecker:
             if var is None:
                 self._unknown(node.children[1], "variable", name, list(self.scope.variables))
             elif var.constant:
-                self.error(node.children[1], f"'{name}' is a constant: an input cannot change it")
+                self.error(node.children[1], _constant_written(var, f"'{name}' is a constant: an input cannot change it"),
+                           rule="assignmentToParameter" if var.kind == "parameter" else "")
             elif event is not None:
                 if event.type is None:
                     self.error(node, f"event '{event.name}' carries no value, so '?{name}' has nothing to receive", rule="Tg5")
@@ -874,7 +886,8 @@ class ExprChecker:
             self._unknown(parts[0], "variable", name, list(self.scope.variables))
             return None
         if var.constant:
-            self.error(parts[0], f"'{name}' is a constant and cannot be assigned")
+            self.error(parts[0], _constant_written(var, f"'{name}' is a constant and cannot be assigned"),
+                       rule="assignmentToParameter" if var.kind == "parameter" else "")
         target: ast.Expr = ast.VarRef(var.type, self.pos(parts[0]), var)
         fields = []
         for part in parts[1:]:
@@ -1055,6 +1068,13 @@ def function_value(f: ast.Function, p: Pos) -> ast.Lambda:
     domain = f.parameters[0].type if len(f.parameters) == 1 else ast.ProductType(tuple(q.type for q in f.parameters))
     args = tuple(ast.VarRef(q.type, p, q) for q in f.parameters)
     return ast.Lambda(ast.FunctionType(domain, f.result), p, f.parameters, None, ast.Call(f.result, p, f, args))
+
+
+def _constant_written(var: ast.Variable, message: str) -> str:
+    """The error for a write to a constant: RoboTool refuses one to an operation's parameter
+    (checkAssignmentToParameter) and accepts one to a declared constant, whose write its semantics
+    gives no meaning (a constant has no channel to set): unsupported."""
+    return message if var.kind == "parameter" else f"unsupported: {message}"
 
 
 def conform(e: ast.Expr, t: ast.Type) -> ast.Expr:

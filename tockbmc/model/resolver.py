@@ -312,21 +312,59 @@ class Resolver:
 
     # ----------------------------------------------------------------- variables, events, operations
 
-    def variables(self, scope: FileScope, var_list: Tree, owner: str, checker: ExprChecker | None,
+    def variables(self, scope: FileScope, var_lists: list[Tree], owner: str, checker: ExprChecker | None,
                   kind: str = "local") -> list[ast.Variable]:
-        constant = str(var_list.children[0]) == "const"
-        result = []
-        for v in var_list.children[1:]:
+        """The variables and constants `var_lists` declare, each entered into the checker's scope
+        once its initial value is checked: in their order, except that a constant comes after those
+        its value names.  RoboTool's scoping puts every variable
+        of an element in scope in each initial value (RoboChartScopeProvider.variablesDeclared), so a
+        constant's value may name a constant declared after it: constants are checked after those
+        they name, whatever their order.  A value that names a variable declared after it, or
+        constants whose values name each other, have no value tockbmc can give: unsupported."""
+        checker = checker or self.checker(scope, Scope(scope.path, owner))
+        decls = [(str(vl.children[0]) == "const", v) for vl in var_lists for v in vl.children[1:]]
+        index = {str(v.children[0]): i for i, (_, v) in enumerate(decls)}
+        first: dict[int, int] = {}  # a later variable each value names: unsupported
+        needs: list[set[int]] = []
+        for i, (_, v) in enumerate(decls):
+            named = {qname_text(n.children[0]) for n in v.children[2].iter_subtrees() if n.data == "name_expr"} \
+                if len(v.children) > 2 else set()
+            wanted = {index[n] for n in named if n in index and index[n] != i}
+            later = sorted(j for j in wanted if j > i and not decls[j][0])
+            if later:
+                first[i] = later[0]
+            needs.append({j for j in wanted if decls[j][0] or j < i})
+        order: list[int] = []
+        while len(order) < len(decls):
+            done = set(order)
+            ready = [i for i in range(len(decls)) if i not in done and needs[i] <= done]
+            if not ready:  # constants whose values name each other
+                cycle = [i for i in range(len(decls)) if i not in done]
+                names = ", ".join(f"'{decls[i][1].children[0]}'" for i in cycle)
+                for i in cycle:
+                    self.error(scope.path, decls[i][1].children[0],
+                               f"unsupported: constants whose values name each other ({names})")
+                    first[i] = i
+                ready = cycle
+            order.append(ready[0])
+        result: dict[int, ast.Variable] = {}
+        for i in order:
+            constant, v = decls[i]
             name = v.children[0]
             vtype = self.type_of(scope, v.children[1])
             initial = None
-            if len(v.children) > 2:
-                if checker is None:
-                    checker = self.checker(scope, Scope(scope.path, owner))
+            if i in first and first[i] != i:
+                self.error(scope.path, v.children[2], f"unsupported: the initial value of '{name}' reads "
+                                                      f"'{decls[first[i]][1].children[0]}', a variable declared after it")
+            elif len(v.children) > 2 and i not in first:
                 initial = checker.expr(v.children[2])
-                initial = checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'", rule="VarInitType")
-            result.append(ast.Variable(str(name), vtype, constant, owner, pos_of(scope.path, name), initial, kind))
-        return result
+                initial = checker.expect(v.children[2], initial, vtype, f"the initial value of '{name}'",
+                                         rule="VarInitType")
+            result[i] = ast.Variable(str(name), vtype, constant, owner, pos_of(scope.path, name), initial, kind)
+            checker.scope.variables[str(name)] = result[i]
+        # in the order they are checked in: each after those it names, so that every engine can give
+        # them their values in turn
+        return [result[i] for i in order]
 
     def event(self, scope: FileScope, tree: Tree, owner: str) -> ast.Event:
         broadcast = any(isinstance(c, Token) and c.type == "BROADCAST" for c in tree.children)
@@ -371,14 +409,11 @@ class Resolver:
             for item in tree.children[1:]:
                 if item.data == "event":
                     events.append(self.event(scope, item, decl.qname))
-                elif item.data == "var_list":
-                    new = self.variables(scope, item, decl.qname, checker, "interface")
-                    variables += new
-                    expr_scope.variables.update({v.name: v for v in new})
                 elif item.data == "op_sig":
                     operations.append(self.op_sig(scope, item, decl.qname))
                 elif item.data == "clock":
                     clocks.append(ast.Clock(str(item.children[0]), decl.qname, pos_of(scope.path, item.children[0])))
+            variables = self.variables(scope, children(tree, "var_list"), decl.qname, checker, "interface")
             self._no_duplicates(scope.path, [*events, *variables, *operations, *clocks], "interface " + decl.qname)
             return ast.Interface(decl.qname, tuple(events), tuple(variables), tuple(operations), tuple(clocks),
                                  pos_of(scope.path, name_of(tree)))
@@ -484,7 +519,6 @@ class Resolver:
     def behaviour(self, scope: FileScope, tree: Tree, qname: str, cls: type) -> ast.Behaviour:
         """A state machine or defined operation: declarations, nodes, transitions."""
         path = scope.path
-        variables: list[ast.Variable] = []
         iface_vars: list[ast.Variable] = []
         events: list[ast.Event] = []
         clocks: list[ast.Clock] = []
@@ -516,10 +550,7 @@ class Resolver:
         expr_scope.variables.update({v.name: v for v in iface_vars})
         expr_scope.variables.update({p.name: p for p in params})
         checker = self.checker(scope, expr_scope)
-        for item in children(tree, "var_list"):
-            new = self.variables(scope, item, qname, checker)
-            variables += new
-            expr_scope.variables.update({v.name: v for v in new})
+        variables = self.variables(scope, children(tree, "var_list"), qname, checker)
         self._no_duplicates(path, [*variables, *params], qname)
         self._no_duplicates(path, events, qname)
         self._no_duplicates(path, clocks, qname)
@@ -771,12 +802,12 @@ class Resolver:
         scope, tree, qname = decl.file, decl.tree, decl.qname
         path = scope.path
         events: list[ast.Event] = []
-        variables: list[ast.Variable] = []
         machines: list[ast.MachineInstance] = []
         operations: list[ast.OperationInstance] = []
         relations: dict[str, list[str]] = {"uses": [], "provides": [], "requires": []}
         expr_scope = Scope(path, qname)
         checker = self.checker(scope, expr_scope)
+        variables = self.variables(scope, children(tree, "var_list"), qname, checker)
         for item in tree.children[1:]:
             if item.data in relations:
                 iface = self.interface_ref(scope, item.children[0])
@@ -789,10 +820,6 @@ class Resolver:
                     events += iface.events
             elif item.data == "event":
                 events.append(self.event(scope, item, qname))
-            elif item.data == "var_list":
-                new = self.variables(scope, item, qname, checker)
-                variables += new
-                expr_scope.variables.update({v.name: v for v in new})
             elif item.data == "clock":
                 self.error(path, item, "unsupported: clocks declared in a controller")
             elif item.data == "stm_def":
@@ -937,10 +964,9 @@ class Resolver:
                 operations += iface.operations
             elif item.data == "event":
                 events.append(self.event(scope, item, qname))
-            elif item.data == "var_list":
-                variables += self.variables(scope, item, qname, None)
             elif item.data == "op_sig":
                 operations.append(self.op_sig(scope, item, qname))
+        variables += self.variables(scope, children(tree, "var_list"), qname, None)
         self._no_duplicates(path, events, qname)
         return ast.RoboticPlatform(qname, pos_of(path, name_of(tree)), tuple(events), tuple(variables),
                                    tuple(operations), tuple(relations["provides"]), tuple(relations["uses"]),
