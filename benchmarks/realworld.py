@@ -8,7 +8,8 @@ assertions checked as RoboTool reads them: RoboTool's default ranges under the p
 instantiation (as benchmarks/conformance.py does), each assertion with `--timeout` seconds and
 the project with `--budget` seconds in all (assertions past it are counted `skipped`).  Printed:
 per project, whether it loaded (else its first errors) and its verdict counts; in total, the
-counts, the commonest load errors and unsupported reasons, and every verdict that contradicts an
+counts, the load failures by the RoboTool rule their errors cite (docs/language.md §5.1), the
+commonest load errors and unsupported reasons, and every verdict that contradicts an
 `expect=` entry (a verdict its authors recorded with RoboTool/FDR).  With `--core`, a project
 without assertions is checked for RoboTool's core assertions of each of its elements, as `tockbmc
 check` does; an internal error in a check is printed (`CRASH`) and counted, and the run goes on.
@@ -28,6 +29,7 @@ import tockbmc
 from tockbmc.check import DEFAULT_BOUND
 from tockbmc.model.config import ROBOTOOL_RANGES, configure
 from tockbmc.model.core import core_assertions
+from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.loader import SUFFIXES
 from tockbmc.model.readings import Reading
 from tockbmc.model.result import Verdict
@@ -108,6 +110,13 @@ def reason_kind(message: str) -> str:
     return _QUOTED.sub("…", message.split("\n")[0])[:100]
 
 
+def rule_of(d: Diagnostic) -> str:
+    """The RoboTool rule an error cites (`model.rules`), or why it cites none."""
+    if d.rule:
+        return d.rule
+    return "unsupported (RoboTool accepts it)" if d.message.startswith("unsupported: ") else "no rule"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--bound", type=int, default=DEFAULT_BOUND)
@@ -126,6 +135,7 @@ def main() -> None:
     args = parser.parse_args()
     totals: collections.Counter[str] = collections.Counter()
     load_reasons: collections.Counter[str] = collections.Counter()
+    load_rules: collections.Counter[str] = collections.Counter()
     unsupported: collections.Counter[str] = collections.Counter()
     contradictions: list[str] = []
     start = time.perf_counter()
@@ -141,8 +151,11 @@ def main() -> None:
             totals["not loaded"] += 1
             for kind in {reason_kind(d.message) for d in errors}:
                 load_reasons[kind] += 1
+            cited = sorted({rule_of(d) for d in errors})
+            load_rules.update(cited)
             first = "; ".join(f"{Path(d.pos.path).name}:{d.pos.line}: {d.message.splitlines()[0]}" for d in errors[:2])
-            print(f"{line.label}\n    NOT LOADED ({len(errors)} errors): {first[:200]}", flush=True)
+            print(f"{line.label}\n    NOT LOADED ({len(errors)} errors; RoboTool rules {', '.join(cited)}): "
+                  f"{first[:200]}", flush=True)
             continue
         totals["loaded"] += 1
         project = dataclasses.replace(project, root=str(args.corpus / line.folder))
@@ -181,6 +194,9 @@ def main() -> None:
                                 ("projects", "loaded", "not loaded", "holds", "violated", "unknown", "unsupported",
                                  "skipped", "crashed", "expect met", "expect not met")),
           f"({time.perf_counter() - start:.0f} s)")
+    print("load failures by the RoboTool rule their errors cite (projects):")
+    for rule, n in load_rules.most_common():
+        print(f"  {n:4} {rule}")
     print("commonest load errors (projects):")
     for kind, n in load_reasons.most_common(args.top):
         print(f"  {n:4} {kind}")

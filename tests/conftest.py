@@ -104,6 +104,11 @@ def load_differential() -> ModuleType:
     return _load_benchmark("tockbmc_benchmarks_differential_cases", DIFFERENTIAL)
 
 
+def load_realworld() -> ModuleType:
+    """`benchmarks/realworld.py`: how the public projects of `shared/realworld` are read."""
+    return _load_benchmark("tockbmc_benchmarks_realworld", REPO / "benchmarks" / "realworld.py")
+
+
 def _load_benchmark(name: str, path: Path) -> ModuleType:
     if name in sys.modules:
         return sys.modules[name]

@@ -1,9 +1,12 @@
-"""Load every model of RoboTool's regression suite (`../shared/conformance/robochart-tests`).
+"""Load every model of RoboTool's regression suite (`../shared/conformance/robochart-tests`)
+and every public project of `../shared/realworld`.
 
 `robochart/<case>` models are valid RoboChart: each either loads, or is rejected
 only with `unsupported: …` diagnostics naming a construct that language.md lists
 as "Later".  `robochart-fail/<case>` models are invalid: each is rejected with a
-real (not `unsupported`) error that names the reason RoboTool rejects it.
+real (not `unsupported`) error that names the reason RoboTool rejects it and cites
+RoboTool's rule (docs/language.md §5.1).  The projects of PROJECTS.txt load, but
+those RoboTool refuses too, which are refused for the rules recorded here.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from functools import cache
 from pathlib import Path
 
 import pytest
-from conftest import CONFORMANCE, run_cli
+from conftest import CONFORMANCE, SHARED, load_realworld, run_cli
 
 from tockbmc import ModelError, Project, load
 from tockbmc.model import Diagnostic
@@ -34,16 +37,16 @@ EXPECTED_LOAD = {
     "rp-var-visible-uses", "simGeneric-1", "simGeneric-5", "simGeneric-8", "test-core-assertions",
     "test-simple-machine", "test1", "test10", "test11", "test12", "test13", "test14", "test2", "test3", "test4",
     "test5", "test6", "test7", "test8", "test9",
-    # lambda, function types, override and `as` (issue 15, session 8)
+    # lambda, function types, override and `as`
     "FunctionToolkitCallMultiArgTest", "FunctionToolkitCallTest", "LambdaExpLetTest", "LambdaExpLetToolkitTest",
     "LambdaExpMultiArgTest", "LambdaExpTest", "LambdaExpToolkitTest", "LambdaExpVarTest", "LambdaExpVarToolkitTest",
     "SequenceAndProductTest",  # s[i] = e
     "test-vector-matrix",  # vectors and matrices as tuples
-    "test15",  # enumeration literals with parameters load; a check that meets them is unsupported (session 9)
+    "test15",  # enumeration literals with parameters load; a check that meets them is unsupported
 }
 
 # Valid cases rejected for a reason that is neither a bug nor on language.md's
-# "Later" list: each must fail with exactly the recorded kind of message.  None since session 9.
+# "Later" list: each must fail with exactly the recorded kind of message.  None today.
 KNOWN_DEVIATIONS: dict[str, str] = {}
 # The `unsupported:` message each known deviation must give.
 DEVIATION_MESSAGES: dict[str, str] = {}
@@ -53,12 +56,18 @@ DEVIATION_MESSAGES: dict[str, str] = {}
 # "quantified expressions".
 LATER = re.compile(r"\b(sets?|sequences?|tuples?|quantified|let|lambda|vectors?|matri(x|ces)|toolkits?|collections?)\b")
 
-# Why each robochart-fail case is invalid, as the diagnostic must say it.
+# Why each robochart-fail case is invalid, as the diagnostic must say it, and the RoboTool rule it cites.
 FAIL_REASONS = {
     "opcall-scope-fail": "not in scope",
     "operationInput*": "sends",
     "operationOutput*": "receives",
     "transitionsOutsideNodeContainer": "must stay inside",
+}
+FAIL_RULES = {
+    "opcall-scope-fail": "linking",  # `op()` names no operation of a required interface
+    "operationInput*": "Cn8",  # the connection ends at a machine whose operation sends the event
+    "operationOutput*": "Cn9",  # the connection starts at a machine whose operation receives it
+    "transitionsOutsideNodeContainer": "linking",  # a transition's source is outside its state
 }
 
 
@@ -181,9 +190,9 @@ def test_loading_cases_count(capsys: pytest.CaptureFixture[str]) -> None:
     assert set(loading) == EXPECTED_LOAD
 
 
-def fail_reason(case: str) -> str:
-    reasons = [reason for pattern, reason in FAIL_REASONS.items() if fnmatch.fnmatchcase(case, pattern)]
-    assert len(reasons) == 1, f"record why {case} is invalid in FAIL_REASONS"
+def fail_reason(case: str, table: dict[str, str] = FAIL_REASONS) -> str:
+    reasons = [reason for pattern, reason in table.items() if fnmatch.fnmatchcase(case, pattern)]
+    assert len(reasons) == 1, f"record why {case} is invalid in FAIL_REASONS and FAIL_RULES"
     return reasons[0]
 
 
@@ -197,6 +206,18 @@ def test_invalid_case(case: str) -> None:
     assert_positions_in_files(errs)
     reason = fail_reason(case)
     assert any(reason in d.message for d in real), f"{case}: no error says {reason!r}:\n{describe(errs)}"
+
+
+@pytest.mark.parametrize("case", INVALID_CASES)
+def test_invalid_case_cites_robotool_s_rule(case: str) -> None:
+    """Every error of a robochart-fail case cites the rule RoboTool refuses the model by."""
+    result = outcome(INVALID / case)
+    assert isinstance(result, ModelError)
+    assert {d.rule for d in errors(result)} == {fail_rule(case)}, describe(errors(result))
+
+
+def fail_rule(case: str) -> str:
+    return fail_reason(case, FAIL_RULES)
 
 
 def test_invalid_case_positions() -> None:
@@ -220,6 +241,7 @@ def test_cli_rejects_invalid_case(case: str) -> None:
     assert "Traceback" not in result.output
     assert ": error: " in result.output
     assert fail_reason(case) in result.output
+    assert f"[RoboTool rule {fail_rule(case)}]" in result.output
 
 
 @pytest.mark.parametrize("case", ["Example1", "test1", "AsyncBuffers"])
@@ -228,3 +250,46 @@ def test_cli_shows_valid_case(case: str) -> None:
     assert result.crash is None, result.crash
     assert result.exit_code == 0, result.output
     assert "Traceback" not in result.output
+
+
+# -------------------------------------------------------------------- the public projects of shared/realworld
+
+REALWORLD = SHARED / "realworld"
+# The projects RoboTool refuses too, and the RoboTool rules their errors cite.
+REALWORLD_REFUSED = {
+    # its assertions name ctrl3, which no file declares
+    "UoY-RoboStar+AURO/week_6/robochart/buffer-example": {"linking"},
+    # a copy that names interfaces, machines and a platform left out of it: no module has a platform
+    "laila-fangyan+RoboChart2Circus_2024/Test1": {"linking", "M1"},
+}
+
+
+def realworld_lines() -> list[object]:
+    if not (REALWORLD / "PROJECTS.txt").is_file():
+        return []
+    return load_realworld().read_projects(REALWORLD / "PROJECTS.txt")  # type: ignore[no-any-return]
+
+
+REALWORLD_LINES = realworld_lines()
+
+
+def test_realworld_corpus_is_present() -> None:
+    assert len(REALWORLD_LINES) >= 70, f"clone the shared/ directory beside the repository: {REALWORLD}"
+    assert set(REALWORLD_REFUSED) <= {line.label for line in REALWORLD_LINES}  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("line", REALWORLD_LINES, ids=lambda line: line.label)  # type: ignore[attr-defined]
+def test_realworld_project_loads_unless_robotool_refuses_it(line: object) -> None:
+    """Loading only, as benchmarks/realworld.py reads each line of PROJECTS.txt."""
+    files = load_realworld().files_of(REALWORLD, line)
+    label = line.label  # type: ignore[attr-defined]
+    try:
+        project = load(*files)
+    except ModelError as exc:
+        errs = errors(exc)
+        assert label in REALWORLD_REFUSED, f"{label} does not load:\n{describe(errs)}"
+        assert_positions_in_files(errs)
+        assert {d.rule for d in errs} == REALWORLD_REFUSED[label], describe(errs)
+        return
+    assert label not in REALWORLD_REFUSED, f"{label} loads: remove it from REALWORLD_REFUSED"
+    assert project.machines or project.controllers or project.modules or project.operations
