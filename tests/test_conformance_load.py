@@ -149,8 +149,7 @@ def test_known_deviation(case: str) -> None:
 
 def test_parameterised_enumeration_is_checked() -> None:
     """test15's `enumeration EM { EM1 EM2(real) EM3(nat) }` and `var o : EM = EM3(1)`: the model
-    loads (RoboTool accepts it) and BMC decides its machine (it was `unsupported` at the
-    enumeration's declaration until session 13).  Its one assertion, whose specification reads a
+    loads (RoboTool accepts it) and BMC decides its machine.  Its one assertion, whose specification reads a
     received record's fields with RoboTool's `test15_DT_p(x)`, is checked, and undecided: the
     specification's traces, a record and tocks, are too many to list. The explicit engine decides
     the core assertions with func1's placeholder (RoboTool's `func1(e) = 0`); in the open reading,
