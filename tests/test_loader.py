@@ -7,7 +7,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
-from conftest import COUNTER, EXAMPLE, run_cli, verdicts_are, write_files
+from conftest import COUNTER, EXAMPLE, both_engines, run_cli, verdicts_are, write_files
 
 from tockbmc import ModelError, Project, load
 from tockbmc.encodings.values import Range, Ranges
@@ -593,10 +593,33 @@ def test_initial_with_two_transitions_and_a_trigger(tmp_path: Path) -> None:
     ]
 
 
-def test_region_without_initial_junction(tmp_path: Path) -> None:
+def test_a_composite_state_without_initial_junction_loads_with_a_warning_and_entering_it_is_unsupported(
+        tmp_path: Path) -> None:
+    """RoboTool's STM3 only warns for a composite state's region (checkStateMachineHasInitialState
+    on a NodeContainer): the model loads, and both engines report the assertions unsupported."""
     write_files(tmp_path, {"m.rct": "stm M {\n  initial i\n  state s {\n    state inner {}\n  }\n"
-                                    "  transition t0 { from i to s }\n}\n"})
-    assert located(load_error(tmp_path)) == [("m.rct", 3, 9, "state 's' has no initial junction")]
+                                    "  transition t0 { from i to s }\n}\n",
+                           "a.assertions": "assertion A1 : M is deadlock-free\n"})
+    project = load(tmp_path)
+    [w] = project.warnings
+    assert (w.pos.line, w.pos.column, w.severity, w.message) == (
+        3, 9, "warning", "state 's' has no initial junction: entering it is unsupported")
+    bmc, explicit = both_engines(project, Ranges(), 4)
+    assert [r.verdict.value for r in bmc + explicit] == ["unsupported", "unsupported"]
+    assert "initial" in (bmc[0].reason or "") and "initial" in (explicit[0].reason or "")
+
+
+def test_two_initial_junctions_in_a_composite_state_are_unsupported(tmp_path: Path) -> None:
+    write_files(tmp_path, {"m.rct": "stm M {\n  initial i\n  state s {\n    initial j\n    initial k\n"
+                                    "    state inner {}\n    transition t1 { from j to inner }\n"
+                                    "    transition t2 { from k to inner }\n  }\n"
+                                    "  transition t0 { from i to s }\n}\n",
+                           "a.assertions": "assertion A1 : M is deadlock-free\n"})
+    project = load(tmp_path)
+    assert [w.message for w in project.warnings] == [
+        "state 's' has more than one initial junction: entering it is unsupported"]
+    bmc, explicit = both_engines(project, Ranges(), 4)
+    assert [r.verdict.value for r in bmc + explicit] == ["unsupported", "unsupported"]
 
 
 # ------------------------------------------------------------------ (h) conditions

@@ -380,12 +380,14 @@ class _Builder:
 
     def _initial(self, region: str | None) -> ast.Transition:
         if region not in self._initials:
-            for n in self.m.nodes:
-                if n.parent == region and n.kind == "initial":
-                    for t in self.m.transitions:
-                        if t.source == n.path:
-                            self._initials[region] = t
-                            return t
+            initials = [n for n in self.m.nodes if n.parent == region and n.kind == "initial"]
+            if len(initials) > 1:  # RoboTool warns (STM3) and gives entering the region no meaning
+                raise Unsupported(initials[1].pos, f"region {region or self.m.name} has more than one initial junction")
+            for n in initials:
+                for t in self.m.transitions:
+                    if t.source == n.path:
+                        self._initials[region] = t
+                        return t
             raise Unsupported(self.m.pos, f"region {region or self.m.name} has no initial transition")
         return self._initials[region]
 

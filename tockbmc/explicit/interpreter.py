@@ -633,9 +633,16 @@ class _Beh:
         self.initial: dict[str | None, str] = {}
         for n in b.nodes:
             if n.kind == "initial":
+                if n.parent in self.initial:  # RoboTool warns (STM3) and gives entering it no meaning
+                    raise NotInterpretable(n.pos, f"region {n.parent or b.name} has more than one initial junction")
                 self.initial[n.parent] = n.path
             if n.kind == "probabilistic":
                 raise NotInterpretable(n.pos, "probabilistic junctions")
+        for n in b.nodes:
+            if n.composite and n.path not in self.initial:
+                raise NotInterpretable(n.pos, f"region {n.path} has no initial junction")
+        if b.nodes and None not in self.initial:
+            raise NotInterpretable(b.pos, f"region {b.name} has no initial junction")
         self.deadlines = [t for t in b.transitions if t.deadline is not None]
         self._cands: dict[str, list[ast.Transition]] = {}
         self._paths: dict[tuple[str, str, str], tuple[tuple[str, ...], tuple[str, ...]]] = {}

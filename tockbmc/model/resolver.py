@@ -775,11 +775,19 @@ class Resolver:
         for region, members in regions.items():
             where = f"state '{region}'" if region else qname
             initials = [n for n in members if n.kind == "initial"]
+            # RoboTool's STM3 is an error for a state machine's own region only; for a composite
+            # state's, or an operation's, it warns (checkStateMachineHasInitialState(NodeContainer))
+            # and gives entering it no meaning: each engine reports the assertions that enter it
+            # unsupported.
+            machine = region is None and tree.data == "stm_def"
+            severity = "error" if machine else "warning"
+            after = "" if machine else ": entering it is unsupported"
             if not initials:
                 pos = next(n.pos for n in nodes if n.path == region) if region else pos_of(path, name_of(tree))
-                self.report(pos, f"{where} has no initial junction")
+                self.report(pos, f"{where} has no initial junction{after}", severity, "STM3" if machine else "")
             for extra in initials[1:]:
-                self.report(extra.pos, f"{where} has more than one initial junction")
+                self.report(extra.pos, f"{where} has more than one initial junction{after}", severity,
+                            "STM3" if machine else "")
             for init in initials:
                 out = [t for t in transitions if t.source == init.path]
                 if len(out) != 1:
