@@ -173,3 +173,16 @@ def test_a_write_to_a_constant_is_unsupported_and_one_to_a_parameter_breaks_rule
         load(tmp_path)
     [d] = info.value.diagnostics
     assert d.message.startswith("unsupported: ") == unsupported and d.rule == rule, d
+
+
+@pytest.mark.parametrize("declaration", ["datatype R { next : R }", "enumeration E { Leaf Node(E) }"])
+def test_a_type_defined_in_terms_of_itself_is_unsupported_not_invalid(tmp_path: Path, declaration: str) -> None:
+    """RoboTool has no rule against a recursive record or enumeration; tockbmc's values are finite."""
+    name = declaration.split()[1]
+    write_files(tmp_path, {"m.rct": f"{declaration}\nstm S {{\n\tvar x : {name}\n\tinitial i\n\tstate s {{ }}\n"
+                                    "\ttransition t0 { from i to s }\n}\n"})
+    with pytest.raises(ModelError) as info:
+        load(tmp_path)
+    errors = [d for d in info.value.diagnostics if d.severity == "error"]
+    assert errors and all(d.message.startswith("unsupported: ") and not d.rule for d in errors), errors
+    assert any(f"'{name}' is defined in terms of itself" in d.message for d in errors)

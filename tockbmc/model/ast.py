@@ -278,9 +278,8 @@ def _with_variables(x: Any, mapping: dict[int, Variable]) -> Any:
 
 
 def unchecked_function(f: Function) -> str:
-    """Why a call of a function whose conditions do not type-check is not supported."""
-    return (f"function {f.name}'s conditions do not type-check, which RoboTool does not check there: "
-            f"{f.unchecked}")
+    """Why a call of a function RoboTool accepts but tockbmc gives no meaning is not supported."""
+    return f.unchecked
 
 
 def assignable(target: Type, value: Type) -> bool:
@@ -423,8 +422,9 @@ class Function:
     postconditions: tuple[Expr, ...]
     definition: Expr | None
     pos: Pos
-    # The first type error of its conditions, which RoboTool does not check there (docs/semantics.md
-    # §6.4): the model loads, and a call of the function is `unsupported` with it.
+    # Why a call of it is `unsupported`, for a function RoboTool accepts and tockbmc gives no meaning:
+    # the first type error of its conditions, which RoboTool does not check there (docs/semantics.md
+    # §6.4), or a recursion other than through `result == e`.  The model loads.
     unchecked: str = ""
     # The recursive function whose calls past its unfolding this stands for (`model.recursion`):
     # then it is any function of its signature, in every reading.

@@ -98,7 +98,8 @@ class Resolver:
         if key in self._memo:
             return self._memo[key]  # type: ignore[return-value]
         if key in self._in_progress:
-            self.error(path, node, f"'{qname}' is defined in terms of itself")
+            # RoboTool has no rule against a record or enumeration of itself; tockbmc's values are finite
+            self.error(path, node, f"unsupported: '{qname}' is defined in terms of itself")
             return None
         if len(self._in_progress) >= MAX_DECLARATION_CHAIN:  # each one waits for the next: a chain
             self.error(path, node, f"'{qname}' is defined through a chain of more than {MAX_DECLARATION_CHAIN} "
@@ -485,7 +486,8 @@ class Resolver:
         errors = [d for d in self.diagnostics[mark:] if d.severity == "error" and d.pos.path == scope.path
                   and "type error" in d.message]
         self.diagnostics[mark:] = [d for d in self.diagnostics[mark:] if d not in errors]
-        unchecked = f"{errors[0].message} ({errors[0].pos})" if errors else ""
+        unchecked = (f"function {qname.rsplit('::', 1)[-1]}'s conditions do not type-check, which RoboTool "
+                     f"does not check there: {errors[0].message} ({errors[0].pos})") if errors else ""
         definition = defining = None
         for cond in post:
             if isinstance(cond, ast.Binary) and cond.op == "==":
@@ -499,9 +501,10 @@ class Resolver:
             return f
         others = tuple(c for c in post if c is not defining)
         if f.definition is None or recursion.calls((pre, others), own):
-            self.error(scope.path, name_of(tree), f"'{qname}' is defined in terms of itself other than by a "
-                                                  "postcondition result == e")
-            return dataclasses.replace(f, definition=None, postconditions=())
+            # RoboTool has no rule against it; tockbmc unfolds only a `result == e` definition
+            return dataclasses.replace(f, definition=None, postconditions=(), unchecked=f.unchecked or (
+                f"function {f.name} is defined in terms of itself other than by a postcondition result == e "
+                f"({f.pos})"))
         return recursion.unfolded(dataclasses.replace(f, postconditions=others), own)
 
     # ----------------------------------------------------------------- machines and operations
