@@ -186,3 +186,15 @@ def test_a_type_defined_in_terms_of_itself_is_unsupported_not_invalid(tmp_path: 
     errors = [d for d in info.value.diagnostics if d.severity == "error"]
     assert errors and all(d.message.startswith("unsupported: ") and not d.rule for d in errors), errors
     assert any(f"'{name}' is defined in terms of itself" in d.message for d in errors)
+
+
+@pytest.mark.parametrize("deadline", ["<{true}", "action e <{true}"])
+def test_a_deadline_that_is_not_a_number_is_unsupported_not_invalid(tmp_path: Path, deadline: str) -> None:
+    """RoboTool checks no type in a deadline."""
+    write_files(tmp_path, {"m.rct": "stm S {\n\tevent e\n\tinitial i\n\tstate s { }\n"
+                                    "\ttransition t0 { from i to s }\n"
+                                    f"\ttransition t1 {{ from s to s trigger e {deadline} }}\n}}\n"})
+    with pytest.raises(ModelError) as info:
+        load(tmp_path)
+    [d] = info.value.diagnostics
+    assert d.message == "unsupported: a deadline of type boolean (tockbmc reads a deadline as a nat)" and not d.rule

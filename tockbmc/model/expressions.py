@@ -825,9 +825,15 @@ class ExprChecker:
 
     def _s_deadline_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         inner = self.statement(node.children[0])
-        bound = self.expr(node.children[1])
-        self.expect(node.children[1], bound, NAT, "a deadline")
-        return ast.Deadline(p, inner, bound)
+        return ast.Deadline(p, inner, self.deadline(node.children[1]))
+
+    def deadline(self, node: Tree) -> ast.Expr:
+        """A deadline's bound, a `nat`.  RoboTool checks no type there (no validator rule reads
+        it), and gives one of another type no meaning tockbmc could follow: unsupported."""
+        bound = conform(self.expr(node), NAT)
+        if not ast.assignable(NAT, bound.type) and not isinstance(bound.type, ast.ErrorType):
+            self.error(node, f"unsupported: a deadline of type {bound.type} (tockbmc reads a deadline as a nat)")
+        return bound
 
     def _s_if_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         cond = self.condition(node.children[0], rule="IfStmtTypeError")

@@ -701,8 +701,7 @@ class Resolver:
                 if clock is not None:
                     resets.append(clock)
             elif item.data == "deadline":
-                deadline = checker.expr(item.children[0])
-                checker.expect(item.children[0], deadline, NAT, "a deadline")
+                deadline = checker.deadline(item.children[0])
             elif item.data == "condition":
                 condition = checker.condition(item.children[0], rule="TransitionConditionTypeError")
                 guard = item
