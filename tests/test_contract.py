@@ -50,6 +50,7 @@ def test_a_model_error_is_a_json_document_with_diagnostics(tmp_path: Path) -> No
     assert document["status"] == "model-error" and document["results"] == []
     [d] = document["diagnostics"]
     assert (d["line"], d["column"], d["severity"]) == (6, 39, "error") and "did you mean 'stpo'" in d["message"]
+    assert d["rule"] == "linking"  # the RoboTool rule it enforces, apart from the message
 
 
 def test_explicit_and_unsupported_results_validate(tmp_path: Path) -> None:

@@ -20,7 +20,7 @@ from tockbmc.model import ast
 from tockbmc.model.ranges import Ranges
 from tockbmc.model.rules import LINKING, RULES
 
-SOURCES = [REPO / "tockbmc" / "model" / "resolver.py", REPO / "tockbmc" / "model" / "expressions.py"]
+SOURCES = [REPO / "tockbmc" / "model" / name for name in ("resolver.py", "expressions.py", "parser.py")]
 LANGUAGE = REPO / "docs" / "language.md"
 
 

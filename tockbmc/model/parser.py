@@ -15,6 +15,7 @@ from tockbmc.model import grammars
 from tockbmc.model.ast import Pos
 from tockbmc.model.diagnostics import Diagnostic
 from tockbmc.model.limits import MAX_NESTING, too_deep
+from tockbmc.model.rules import LIMIT
 
 # Readable names for the grammar's pattern terminals, used in syntax error messages;
 # string terminals are shown as their text.
@@ -42,7 +43,7 @@ def parse(text: str, path: str, kind: str) -> tuple[Tree | None, list[Diagnostic
     deep = too_deep(tree)
     if deep is not None:
         return None, [Diagnostic(_start(path, deep), f"nested too deeply: more than {MAX_NESTING} levels of states, "
-                                                     "statements and expressions")]
+                                                     "statements and expressions", rule=LIMIT)]
     return tree, []
 
 

@@ -40,8 +40,9 @@ def to_json(results: list[Result], version: str, status: str = "checked",
 
 
 def diagnostic_json(d: Diagnostic) -> dict[str, Any]:
-    return {"path": d.pos.path, "line": d.pos.line, "column": d.pos.column, "end_line": d.pos.end_line,
-            "end_column": d.pos.end_column, "severity": d.severity, "message": d.message}
+    out = {"path": d.pos.path, "line": d.pos.line, "column": d.pos.column, "end_line": d.pos.end_line,
+           "end_column": d.pos.end_column, "severity": d.severity, "message": d.message}
+    return {**out, "rule": d.rule} if d.rule else out
 
 
 def schema() -> dict[str, Any]:
