@@ -606,7 +606,7 @@ def _check_assertion(project: ast.Project, a: ast.Assertion, bound: int, config:
 
         def interpreter(lazy: bool) -> Interpreter:
             return Interpreter(q.element, setup.ranges, consts, dict(q.defined), lazy=lazy,
-                               timed=q.timed)
+                               timed=q.timed, dead_variables=True)
 
         def starts() -> bool:
             """Whether a run of the element, and of the model element on the specification's side

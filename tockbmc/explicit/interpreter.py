@@ -114,6 +114,7 @@ from fractions import Fraction
 from functools import partial
 from typing import Any, NamedTuple, cast
 
+from tockbmc.explicit import liveness
 from tockbmc.model import ast
 from tockbmc.model.config import instance_key
 from tockbmc.model.data import Product, Variant, text_of
@@ -797,7 +798,7 @@ class Interpreter:
                  ranges: Ranges | Mapping[str, object] | None = None,
                  settings: dict[str, object] | None = None,
                  defined: dict[str, ast.OperationDef] | None = None, sampler: Sampler | None = None,
-                 lazy: bool = False, timed: bool = True) -> None:
+                 lazy: bool = False, timed: bool = True, dead_variables: bool = False) -> None:
         # RoboTool's untimed semantics (docs/semantics.md §7.11): the model as `model.untimed`
         # rewrites it (no waits, deadlines, clock resets or clock conditions) and no `tock` step.
         self.timed = timed
@@ -890,6 +891,9 @@ class Interpreter:
         # or its copy of a shared one (`_vkey`), which the memory writes; constants do not change.
         self._private = () if len(self.insts) < 2 else tuple(
             i for i in range(len(self.insts)) if not any(i in cp.readers for cp in self.copies))
+        # (instance, leaf state) -> slots of the machine's variables dead while it rests there
+        # (`liveness`): a search's configurations hold `DEAD` there; other users see every value.
+        self._dead = self._dead_at_rest() if dead_variables else {}
         self._tdl: dict[int, list[tuple[int, int, ast.Transition]]] = defaultdict(list)
         for key, s in self._slot_of.items():
             if key[0] == "tdl":
@@ -2412,6 +2416,22 @@ class Interpreter:
 
     # ------------------------------------------------------------------ the network
 
+    def _dead_at_rest(self) -> dict[tuple[int, str], tuple[int, ...]]:
+        out: dict[tuple[int, str], tuple[int, ...]] = {}
+        for i, inst in enumerate(self.insts):
+            beh = self.behs[inst.beh]
+            if not liveness.analysable(beh.b, partial(self._runs_defined, i)):
+                continue
+            slots = {liveness.key(v): self._slot_of[k] for v in beh.b.variables if not v.constant
+                     if (k := ("v", i, v.owner, v.name)) in self._slot_of}
+            for path, dead in liveness.dead_at_rest(beh, [v for v in beh.b.variables if liveness.key(v) in slots]).items():
+                if dead:
+                    out[(i, path)] = tuple(sorted(slots[d] for d in dead))
+        return out
+
+    def _runs_defined(self, i: int, st: ast.OperationCall) -> bool:
+        return self._resolve_call(i, st) is not None
+
     def _config(self, cfg: Config, changes: list[tuple[int, tuple, dict]], extra: dict | None = None,
                 done: bool = False) -> Config:
         machines = list(cfg.machines)
@@ -2420,6 +2440,11 @@ class Interpreter:
             machines[i] = frames
             for s, v in upd.items():
                 store[s] = v
+            if self._dead and len(frames) == 1:
+                f = frames[0]
+                if not (f.cont or f.via or f.entering or f.bg or f.pend):
+                    for s in self._dead.get((i, f.node), ()):  # type: ignore[arg-type]
+                        store[s] = liveness.DEAD
         if extra:
             for s, v in extra.items():
                 store[s] = v

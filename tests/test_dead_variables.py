@@ -1,0 +1,106 @@
+"""Dead-variable reduction in the explicit engine (`explicit.liveness`).
+
+While a machine rests in a state, a variable no run from there reads before writing it holds one
+value (`DEAD`) in the search's configurations: configurations that differ only there are one, and
+every verdict, and its counterexample's number of visible steps, is that of the search without
+the reduction.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tockbmc import load
+from tockbmc.encodings.values import Range, Ranges
+from tockbmc.explicit import liveness
+from tockbmc.explicit.engine import check_explicit
+from tockbmc.explicit.interpreter import Interpreter
+
+RANGES = Ranges({"core_int": Range(Fraction(-2), Fraction(2))})
+
+# `Forward` keeps the value it forwards (`v`), read only by the action that sends it on; `Keep`
+# keeps one (`k`) that a later state's condition reads, and one (`w`) that it never reads.
+MODEL = """
+interface I { event get : int event put : int event go }
+stm Forward {
+	uses I
+	var v : int
+	initial i
+	state idle { }
+	transition t0 { from i to idle }
+	transition t1 { from idle to idle trigger get?v action put!v }
+}
+stm Keep {
+	uses I
+	var k : int
+	var w : int
+	initial i
+	state a { }
+	state b { }
+	transition t0 { from i to a }
+	transition t1 { from a to b trigger get?k action w = k }
+	transition t2 { from b to a trigger go condition k > 0 }
+}
+"""
+
+ASSERTIONS = """
+timed csp NoPutTwo csp-begin
+NoPutTwo = CHAOS(diff(Events, {| Forward::put.out.2 |}))
+csp-end
+timed assertion F1: Forward is deadlock-free.
+timed assertion F2: Forward refines NoPutTwo in the traces model.
+timed assertion F3: Forward is deterministic.
+timed assertion K1: Keep is deadlock-free.
+timed assertion K2: Keep does not terminate.
+timed assertion K3: Keep is deterministic.
+"""
+
+
+def _graph(model: Path, machine: str) -> Any:
+    project = load(model)
+    element = next(m for m in project.machines if m.name == machine)
+    interp = Interpreter(element, RANGES)
+    return interp.behs[interp.insts[0].beh]
+
+
+@pytest.fixture
+def model(tmp_path: Path) -> Path:
+    (tmp_path / "m.rct").write_text(MODEL)
+    (tmp_path / "m.assertions").write_text(ASSERTIONS)
+    return tmp_path
+
+
+def test_an_input_forwarded_at_once_is_dead_at_rest(model: Path) -> None:
+    g = _graph(model, "Forward")
+    dead = liveness.dead_at_rest(g, g.b.variables)
+    assert {name for _, name in dead["idle"]} == {"v"}
+
+
+def test_a_value_a_later_condition_reads_is_live(model: Path) -> None:
+    g = _graph(model, "Keep")
+    dead = liveness.dead_at_rest(g, g.b.variables)
+    assert {name for _, name in dead["a"]} == {"k", "w"}  # written by t1's input before any read
+    assert {name for _, name in dead["b"]} == {"w"}  # t2's condition reads k
+
+
+def _results(model: Path, reduced: bool, monkeypatch: pytest.MonkeyPatch) -> dict[str, Any]:
+    if not reduced:
+        monkeypatch.setattr(Interpreter, "_dead_at_rest", lambda self: {})
+    return {r.assertion: r for r in check_explicit(load(model), None, 10, RANGES, {}, timeout=120)}
+
+
+def test_the_reduction_keeps_every_verdict_with_fewer_configurations(model: Path,
+                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    reduced = _results(model, True, monkeypatch)
+    full = _results(model, False, monkeypatch)
+    for name, r in reduced.items():
+        f = full[name]
+        assert (r.verdict, r.proof) == (f.verdict, f.proof), (name, r.reason, f.reason)
+        # as few visible steps (which values a counterexample shows may differ: any that shows it)
+        assert len([s for s in r.trace if s.kind != "internal"]) == len([s for s in f.trace if s.kind != "internal"]), name
+    assert reduced["F2"].verdict == "violated"
+    assert reduced["F1"].extra["states"] < full["F1"].extra["states"]
