@@ -529,3 +529,43 @@ stm M {
     ranges = Ranges({"core_int": Range(Fraction(-6), Fraction(6)), "core_nat": Range(Fraction(0), Fraction(6))})
     [r] = check_explicit(load(tmp_path), None, 6, ranges, {}, 30, 10_000)
     assert r.verdict == "unsupported" and "outside its type nat" in (r.reason or ""), r.reason
+
+
+RANGES = """\
+import sequence_toolkit::*
+stm M {
+  var s : Seq(int) = <>
+  var t : Seq(int) = <>
+  initial i
+  state S0 { }
+  state Good { }
+  state Bad { }
+  transition t0 { from i to S0 action s = range(1, 3) ; t = range(2, -1) }
+  transition t1 { from S0 to Good condition s == <1, 2, 3> /\\ t == <> /\\ size(range(0, 0)) == 1 }
+  transition t2 { from S0 to Bad condition head(s) != 1 \\/ size(t) > 0 }
+}
+stm N {
+  var n : nat = 0
+  event e : nat
+  initial i
+  state S0 { }
+  state Chosen { }
+  transition t0 { from i to S0 }
+  transition t1 { from S0 to Chosen trigger e?n condition size(range(1, n)) == 2 }
+}
+"""
+
+
+def test_range_is_the_sequence_of_the_integers_between_its_bounds(tmp_path: Path) -> None:
+    # sequence_toolkit's range(x, y) : Seq(int) is <x, …, y>, empty when y < x: Good is reachable,
+    # Bad is not.  N's Chosen needs range(1, n) with n an input, a sequence of a length the run
+    # picks: the explicit engine computes it (n = 2), BMC reports N's assertion unsupported, and
+    # still decides M's.
+    project = _project(tmp_path, RANGES, "assertion R1: Good is reachable in M.\n"
+                       "assertion R2: Bad is reachable in M.\nassertion R3: Chosen is reachable in N.\n")
+    assert _both(project, ["R1", "R2"]) == {"R1": Verdict.HOLDS, "R2": Verdict.VIOLATED}
+    bmc = {r.assertion: r for r in check(project, ["R3"], bound=10, ranges=NAT03, timeout=60)}
+    assert bmc["R3"].verdict == Verdict.UNSUPPORTED
+    assert "range(x, y) whose bounds are not constants" in (bmc["R3"].reason or "")
+    explicit = {r.assertion: r.verdict for r in check_explicit(project, ["R3"], 10, NAT03, {}, None)}
+    assert explicit == {"R3": Verdict.HOLDS}

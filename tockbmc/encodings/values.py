@@ -972,6 +972,28 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
     return _builtin(e, operands)
 
 
+# The longest `range(x, y)` BMC writes out as a sequence literal.
+MAX_RANGE = 4096
+
+
+def _range(e: ast.Builtin, low: z3.ExprRef, high: z3.ExprRef) -> z3.ExprRef:
+    """sequence_toolkit's `range(x, y)`, `<x, x+1, …, y>` (`<>` when y < x), for bounds that are
+    constants once simplified (`range(1, 3)` -> `Unit(1) ++ Unit(2) ++ Unit(3)`). Z3 has no sequence
+    of a symbolic length other than by a quantifier or a recursive definition, so other bounds are
+    `unsupported`, at the call."""
+    low, high = z3.simplify(low), z3.simplify(high)
+    if not (z3.is_int_value(low) and z3.is_int_value(high)):
+        raise Unsupported(e.pos, "range(x, y) whose bounds are not constants (a sequence of a length "
+                                 "chosen by the run)")
+    lo, hi = low.as_long(), high.as_long()
+    if hi - lo >= MAX_RANGE:
+        raise Unsupported(e.pos, f"range(x, y) of {hi - lo + 1} integers (more than {MAX_RANGE})")
+    if hi < lo:
+        return z3.Empty(z3.SeqSort(z3.IntSort()))
+    items = [z3.Unit(z3.IntVal(i)) for i in range(lo, hi + 1)]
+    return items[0] if len(items) == 1 else z3.Concat(*items)
+
+
 def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
     op, args = e.op, e.args
     xs: list[z3.ExprRef] = []
@@ -992,6 +1014,8 @@ def _builtin(e: ast.Builtin, operands: list[Value]) -> Value:
         above = i >= low if z3.is_true(closed_low) else i > low
         below = i <= high if z3.is_true(closed_high) else i < high
         return z3.Lambda([i], z3.And(above, below))
+    if op == "range":
+        return _range(e, xs[0], xs[1])
     if op == "extract":
         assert isinstance(args[1].type, ast.SeqType)
         s = xs[1]

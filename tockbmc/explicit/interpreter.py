@@ -1820,6 +1820,10 @@ class Interpreter:
             if hi - lo >= MAX_COLLECTIONS:
                 raise NotInterpretable(e.pos, f"a set of {hi - lo + 1} integers")
             return frozenset(range(lo, hi + 1))
+        if op == "range":
+            if args[1] - a >= MAX_COLLECTIONS:
+                raise NotInterpretable(e.pos, f"a sequence of {args[1] - a + 1} integers")
+            return tuple(range(a, args[1] + 1))
         if op == "override":
             b = args[1]
             if isinstance(a, AnyFunction):

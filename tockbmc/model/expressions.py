@@ -43,7 +43,7 @@ TOOLKIT_FUNCTIONS = {
     "size": 1, "head": 1, "last": 1, "tail": 1, "front": 1, "reverse": 1, "isNonEmpty": 1, "concat": 2,
     "filter": 2, "prefix": 2, "suffix": 2, "infix": 2, "dom": 1, "ran": 1, "elems": 1,
     "union": 2, "inter": 2, "diff": 2, "symetric_diff": 2, "notin": 2, "subseteq": 2, "subset": 2,
-    "min": 1, "max": 1, "extract": 2, "override": 2,
+    "min": 1, "max": 1, "extract": 2, "override": 2, "range": 2,
 }
 
 # Built-ins of two sequences or two sets of one type: those giving one (their items' type the
@@ -1140,6 +1140,8 @@ def builtin_type(op: str, args: list[ast.Type]) -> ast.Type | None:
         return None
     if op in ("min", "max"):  # sequence_toolkit's, on a set of numbers: its least (greatest) member
         return a.element if isinstance(a, ast.SetType) and a.element in ast.NUMERIC else None
+    if op == "range":  # sequence_toolkit's `range(x, y) : Seq(int)`: the integers from x to y, in order
+        return ast.SeqType(ast.INT) if a in (NAT, ast.INT) and b in (NAT, ast.INT) else None
     if op == "extract":  # the items of `b` at the indices in `a`, in order (Z's extraction)
         if isinstance(a, ast.SetType) and a.element in (NAT, ast.INT) and isinstance(b, ast.SeqType):
             return b
