@@ -15,6 +15,7 @@ import pytest
 from tockbmc import ModelError, Project, load
 from tockbmc.check import check
 from tockbmc.model import ast
+from tockbmc.model.result import Verdict
 
 RULES = Path(__file__).parent / "models" / "grammar_rules"
 SUBJECT = RULES / "RAPackage.rct"
@@ -58,6 +59,9 @@ UNSUPPORTED_MODELS = {
 }
 UNSUPPORTED_ASSERTIONS = {
     "TypeInstantiation.assertions": [(2, 1, "unsupported: type instantiations ('instantiate')")],
+}
+# PRISM's items: each a warning where it is written, the file's other items loaded.
+UNCHECKED_ASSERTIONS = {
     "Constant.assertions": [(2, 1, "unsupported: constants of probabilistic properties ('const')")],
     "Constants.assertions": [(3, 1, "unsupported: constant settings of probabilistic properties ('constants')"),
                              (5, 1, "unsupported: constant settings of probabilistic properties ('constants')")],
@@ -80,7 +84,7 @@ def errors(*paths: Path) -> list[tuple[int, int, str]]:
 
 def test_every_model_of_the_folder_is_pinned_here() -> None:
     """A model added to the folder without a line here would be checked by nothing."""
-    named = {*READ_MODELS, *READ_ASSERTIONS, *UNSUPPORTED_MODELS, *UNSUPPORTED_ASSERTIONS,
+    named = {*READ_MODELS, *READ_ASSERTIONS, *UNSUPPORTED_MODELS, *UNSUPPORTED_ASSERTIONS, *UNCHECKED_ASSERTIONS,
              "RAPackage.rct", "Transition_empty_trigger.rct"}
     assert sorted(p.name for p in RULES.iterdir()) == sorted(named)
 
@@ -106,6 +110,12 @@ def test_unsupported_rule_is_reported_at_the_construct(name: str, expected: list
 @pytest.mark.parametrize(("name", "expected"), UNSUPPORTED_ASSERTIONS.items())
 def test_unsupported_assertion_rule_is_reported_at_the_item(name: str, expected: list) -> None:
     assert errors(SUBJECT, RULES / name) == expected
+
+
+@pytest.mark.parametrize(("name", "expected"), UNCHECKED_ASSERTIONS.items())
+def test_probabilistic_item_is_a_warning_and_the_file_still_loads(name: str, expected: list) -> None:
+    project = load(SUBJECT, RULES / name)
+    assert [(d.pos.line, d.pos.column, d.message) for d in project.warnings] == expected
 
 
 def test_trigger_with_no_event_reads_as_no_trigger_with_a_warning() -> None:
@@ -197,3 +207,14 @@ def test_relation_type_groups_a_function_type_on_its_left() -> None:
     [machine] = load(RULES / "Type.rct").machines
     g = next(v for v in machine.variables if v.name == "g")
     assert g.type == ast.SetType(ast.ProductType((ast.FunctionType(ast.INT, ast.NAT), ast.BOOLEAN)))
+
+
+def test_a_probabilistic_property_leaves_the_assertions_beside_it_checked(tmp_path: Path) -> None:
+    """A `prob property` is PRISM's, for nothing here to check: it is reported, and the CSP
+    assertions of its file still load and are checked."""
+    (tmp_path / "p.assertions").write_text("prob property p1 : Prob=? of [ Finally deadlock ]\n"
+                                           "assertion A : Beeper is deadlock-free\n")
+    project = load(SUBJECT, tmp_path / "p.assertions")
+    assert [d.message for d in project.warnings] == [PROB]
+    [result] = check(project, ["A"], bound=4)
+    assert result.verdict in (Verdict.HOLDS, Verdict.VIOLATED)

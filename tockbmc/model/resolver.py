@@ -41,7 +41,8 @@ UNSUPPORTED_DECLARATIONS = {
     "ann_operation": "operations given by a neural network ('annoperation')",
 }
 
-# Assertions.xtext's properties for PRISM, parsed so that each is reported where it is written.
+# Assertions.xtext's properties for PRISM, parsed so that each is reported where it is written (a
+# warning: the item is not checked, the rest of its file is).
 UNSUPPORTED_PROBABILISTIC = {
     "prob_assertion": "probabilistic properties ('prob')",
     "prob_constant": "constants of probabilistic properties ('const')",
@@ -1051,7 +1052,9 @@ class Resolver:
             if item.data == "type_instantiation":
                 self.error(path, item, "unsupported: type instantiations ('instantiate')")
             elif item.data in UNSUPPORTED_PROBABILISTIC:
-                self.error(path, item, f"unsupported: {UNSUPPORTED_PROBABILISTIC[item.data]}")
+                # PRISM's items are checked by nothing here, and no CSP assertion refers to them:
+                # each is reported, as itself left unchecked, and the file's other items still load.
+                self.report(pos_of(path, item), f"unsupported: {UNSUPPORTED_PROBABILISTIC[item.data]}", "warning")
             elif item.data == "assertion":
                 a = self.assertion(scope, item, process_names)
                 if a is not None:
