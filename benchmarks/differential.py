@@ -199,7 +199,7 @@ def _summarise(log: Path) -> None:
         share = f" ({100 * c['not comparable'] / outcomes:.1f} %)" if outcomes else ""
         print(f"{what}\n  {c['cases']} cases: {c['agree']} agree ({c['agree within a bound']} of them "
               f"within a bound), {c['disagree']} disagree; {c['not comparable']} not comparable{share}; "
-              f"{c['not comparable']} not comparable; {c['model rejected']} models rejected; {c['crashed']} crashed")
+              f"{c['model rejected']} models rejected; {c['crashed']} crashed")
 
 
 if __name__ == "__main__":
