@@ -647,6 +647,8 @@ class _Builder:
             self.a.edge(cur, else_start, "tau", negated_guards=((s.condition,),), pos=s.pos)
             self._goto(self._stmt(then_start, s.then, active, where), nxt)
             self._goto(self._stmt(else_start, s.otherwise, active, where), nxt)
+        elif isinstance(s, ast.UnsupportedStmt):  # `properties.queries.query` refuses it first
+            raise Unsupported(s.pos, s.what)
         else:
             raise Unsupported(s.pos, f"statement {type(s).__name__}")
         return nxt

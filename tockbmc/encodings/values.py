@@ -740,6 +740,8 @@ class Evaluator:
             if name not in self.clocks:
                 raise Unsupported(e.pos, f"clock '{name}' has no value here")
             return self.clocks[name]
+        if isinstance(e, ast.UnsupportedExpr):  # `properties.queries.query` refuses it first
+            raise Unsupported(e.pos, e.what)
         raise Unsupported(e.pos, f"{type(e).__name__} expressions are not encoded yet")
 
     def _item_outside(self, e: ast.Expr, operands: list[Value]) -> None:

@@ -1563,7 +1563,8 @@ class Interpreter:
                 ast.SetComprehension: self._comprehension}
 
     def _ev_other(self, ctx: _Ctx, e: ast.Expr) -> Any:
-        raise NotInterpretable(e.pos, f"the expression {type(e).__name__}")
+        raise NotInterpretable(e.pos, e.what if isinstance(e, ast.UnsupportedExpr) else
+                               f"the expression {type(e).__name__}")
 
     def _ev_literal(self, ctx: _Ctx, e: ast.Literal) -> Any:
         if isinstance(e.value, str):
@@ -2340,7 +2341,8 @@ class Interpreter:
             ctx.set(self._slot_of[("clk", i, st.clock.name)], 0)
             out.append(("tau", f"{mname}: #{st.clock.name}", self._result(ctx, done)))
         else:
-            raise NotInterpretable(st.pos, f"the statement {type(st).__name__}")
+            raise NotInterpretable(st.pos, st.what if isinstance(st, ast.UnsupportedStmt) else
+                                   f"the statement {type(st).__name__}")
 
     def _call_defined(self, cfg: Config, i: int, ctx: _Ctx, d: ast.OperationDef, st: ast.OperationCall,
                       done: list, out: list) -> None:

@@ -647,6 +647,15 @@ class Interval(Expr):
     high_closed: bool
 
 
+@dataclass(frozen=True)
+class UnsupportedExpr(Expr):
+    """An expression RoboTool accepts and tockbmc gives no meaning (`the`, `inverse`, a toolkit
+    function not built in): the model loads, and each assertion whose element holds it is
+    `unsupported` (`unsupported_in`), naming `what` at `pos`. Its type is the error type."""
+
+    what: str
+
+
 # --------------------------------------------------------------------- statements
 
 
@@ -725,6 +734,21 @@ class Deadline(Stmt):
 
     statement: Stmt
     bound: Expr
+
+
+@dataclass(frozen=True)
+class UnsupportedStmt(Stmt):
+    """A statement RoboTool accepts and tockbmc gives no meaning (`s[i].f = e`): as
+    `UnsupportedExpr`, it makes the assertions whose element holds it `unsupported`."""
+
+    what: str
+
+
+def unsupported_in(*roots: object) -> UnsupportedExpr | UnsupportedStmt | None:
+    """The first construct without a meaning (`UnsupportedExpr`, `UnsupportedStmt`) in the source
+    that `roots` hold (`parts`: through the operations and functions they call), else None."""
+    found = [x for x in parts(*roots) if isinstance(x, (UnsupportedExpr, UnsupportedStmt))]
+    return min(found, key=lambda x: (x.pos.path, x.pos.line, x.pos.column, x.what), default=None)
 
 
 def statements(s: Stmt | None) -> list[Stmt]:

@@ -37,6 +37,10 @@ UNSUPPORTED_EXPRESSIONS = {
     "from_expr": "the expression 'from'",
 }
 
+TRIGGER_PREDICATES = "trigger predicates ('[| … |]')"
+# The end of the warning about a construct kept without a meaning (`ExprChecker.meaningless`).
+PER_ASSERTION = "; the assertions that reach it are reported unsupported"
+
 # The toolkit functions built in (RoboTool's sequence_toolkit, set_toolkit and the parts of
 # relation_toolkit that read sequences), by name: how many arguments, and the kinds they take.
 TOOLKIT_FUNCTIONS = {
@@ -94,10 +98,14 @@ class Scope:
 class ExprChecker:
     """Builds typed expressions and statements for one scope."""
 
-    def __init__(self, scope: Scope, report: Report, resolve_type: Callable[[Tree], ast.Type]):
+    def __init__(self, scope: Scope, report: Report, resolve_type: Callable[[Tree], ast.Type],
+                 kept: list[tuple[Pos, str]] | None = None):
         self.scope = scope
         self.report = report
         self.resolve_type = resolve_type
+        # (position, what) of each construct kept without a meaning (`meaningless`), for the
+        # resolver to refuse one an enclosing expression dropped (`Resolver.refuse_dropped`)
+        self.kept = kept if kept is not None else []
 
     # ----------------------------------------------------------------- helpers
 
@@ -120,6 +128,17 @@ class ExprChecker:
         e = self.expr(node)
         return self.expect(node, e, BOOLEAN, "a condition", rule)
 
+    def meaningless(self, node: Tree | Token, what: str) -> None:
+        """A warning that `node`, which RoboTool accepts, has no meaning in tockbmc: the model loads,
+        and the assertions that reach it are `unsupported` (`ast.unsupported_in`)."""
+        self.report(self.pos(node), f"unsupported: {what}{PER_ASSERTION}", "warning")
+        self.kept.append((self.pos(node), what))
+
+    def _unsupported(self, node: Tree | Token, p: Pos, what: str) -> ast.Expr:
+        """`node` kept as an `ast.UnsupportedExpr` (`meaningless`)."""
+        self.meaningless(node, what)
+        return ast.UnsupportedExpr(ERROR, p, what)
+
     def _unknown(self, node: Tree | Token, what: str, name: str, known: list[str]) -> None:
         self.error(node, f"unknown {what} '{name}'{suggestion(name, known)}", rule=LINKING)
 
@@ -133,8 +152,7 @@ class ExprChecker:
             return ast.Literal(ERROR, p, 0)
         kind = node.data
         if kind in UNSUPPORTED_EXPRESSIONS:
-            self.error(node, f"unsupported: {UNSUPPORTED_EXPRESSIONS[kind]}")
-            return ast.Literal(ERROR, p, 0)
+            return self._unsupported(node, p, UNSUPPORTED_EXPRESSIONS[kind])
         method = getattr(self, f"_x_{kind}", None)
         if method is None:
             self.error(node, f"unsupported: expression '{kind}'")
@@ -405,8 +423,10 @@ class ExprChecker:
             elif name in self.scope.operations or self.scope.resolve_global(name, "operation"):
                 self.error(callee, f"'{name}' is an operation: call it as a statement, not in an expression", rule=LINKING)
             elif self.scope.toolkit:  # after the literals: `V1(0)` is a literal with a toolkit imported too
-                self.error(callee, f"unsupported: toolkit function '{name}' (built in: "
-                           f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
+                for a in args_nodes:
+                    self.expr(a)
+                return self._unsupported(callee, self.pos(callee), f"toolkit function '{name}' (built in: "
+                                         f"{', '.join(sorted(TOOLKIT_FUNCTIONS))})")
             else:
                 self._unknown(callee, "function", name, self.scope.global_names("function"))
             for a in args_nodes:
@@ -422,9 +442,8 @@ class ExprChecker:
             unbound = sorted(set().union(ast.type_vars(function.result), *(ast.type_vars(q.type) for q in function.parameters))
                              - set(bindings))
             if unbound:
-                self.error(node, f"unsupported: a call of '{name}' whose arguments do not fix its generic "
-                           f"type{'s' if len(unbound) > 1 else ''} {', '.join('?' + v for v in unbound)}")
-                return ast.Literal(ERROR, p, 0)
+                return self._unsupported(node, p, f"a call of '{name}' whose arguments do not fix its generic "
+                                         f"type{'s' if len(unbound) > 1 else ''} {', '.join('?' + v for v in unbound)}")
             instance = self.scope.instantiate(function, bindings)
             if instance is None:
                 return ast.Literal(ERROR, p, 0)
@@ -496,9 +515,8 @@ class ExprChecker:
             return ast.Literal(ERROR, p, 0)
         value = conform(value, target)
         if not ast.assignable(target, value.type):
-            self.error(node, f"unsupported: a cast 'as {target}' of a value of type {value.type} "
-                       f"(only casts to a type that holds the value, its integers made reals, are built)")
-            return ast.Literal(ERROR, p, 0)
+            return self._unsupported(node, p, f"a cast 'as {target}' of a value of type {value.type} (only casts "
+                                              "to a type that holds the value, its integers made reals, are built)")
         if isinstance(value, ast.Builtin) and value.op == "as" and value.type == target:
             return ast.Builtin(target, p, "as", value.args)  # `conform` cast it already
         return ast.Builtin(target, p, "as", (value,))
@@ -747,9 +765,9 @@ class ExprChecker:
     def communication(self, node: Tree) -> tuple[ast.Event | None, str, ast.Variable | None, ast.Expr | None]:
         """(event, kind, variable, value) for a communication: kind is plain, input, output or sync."""
         kind = node.data
-        if kind == "comm_predicate":
-            self.error(node, "unsupported: trigger predicates ('[| … |]')")
-            return None, "plain", None, None
+        if kind == "comm_predicate":  # kept by the caller as an `ast.UnsupportedExpr` or `UnsupportedStmt`
+            self.meaningless(node, TRIGGER_PREDICATES)
+            return None, "predicate", None, None
         if kind == "comm_plain":
             parts = node.children[0].children
             event = self.event(parts[0])
@@ -873,6 +891,8 @@ class ExprChecker:
 
     def _communication_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         event, kind, var, value = self.communication(node)
+        if kind == "predicate":
+            return ast.UnsupportedStmt(p, TRIGGER_PREDICATES)
         if event is None:
             return ast.Skip(p)
         if kind == "input":
@@ -929,8 +949,9 @@ class ExprChecker:
         if isinstance(t, ast.ErrorType) or any(isinstance(i.type, ast.ErrorType) for i in indices):
             return ast.Skip(p)
         if len(indices) != 1:
-            self.error(indices_node, "unsupported: indexing with more than one index (matrices)")
-            return ast.Skip(p)
+            what = "an assignment to a matrix's item ('m[i, j] = e')"
+            self.meaningless(indices_node, what)
+            return ast.UnsupportedStmt(self.pos(indices_node), what)
         [index] = indices
         if isinstance(t, ast.SeqType):
             if index.type not in (NAT, ast.INT):
@@ -953,8 +974,9 @@ class ExprChecker:
     def _s_nested_assign_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         """`s[i].f = e` or `s[i][j] = e`: RoboChart's assignable chains, whose updates past the
         first item (a record or sequence inside a sequence's item) are not built yet."""
-        self.error(node, "unsupported: an assignment to a part of an item ('s[i].f = e', 's[i][j] = e')")
-        return ast.Skip(p)
+        what = "an assignment to a part of an item ('s[i].f = e', 's[i][j] = e')"
+        self.meaningless(node, what)
+        return ast.UnsupportedStmt(p, what)
 
     def _s_call_stmt(self, node: Tree, p: Pos) -> ast.Stmt:
         name = qname_text(node.children[0])

@@ -20,7 +20,7 @@ from lark import Token, Tree
 from tockbmc.model import ast, recursion
 from tockbmc.model.ast import BOOLEAN, ERROR, INT, NAT, REAL, STRING, Pos
 from tockbmc.model.diagnostics import Diagnostic, suggestion
-from tockbmc.model.expressions import ExprChecker, Scope, conform, pos_of
+from tockbmc.model.expressions import PER_ASSERTION, TRIGGER_PREDICATES, ExprChecker, Scope, conform, pos_of
 from tockbmc.model.limits import MAX_DECLARATION_CHAIN
 from tockbmc.model.numbers import real_text
 from tockbmc.model.rules import LIMIT, LINKING, UNIQUE
@@ -84,6 +84,7 @@ class Resolver:
         self.diagnostics: list[Diagnostic] = []
         self._memo: dict[tuple[str, str], object] = {}
         self._in_progress: set[tuple[str, str]] = set()
+        self._kept: list[tuple[Pos, str]] = []  # constructs kept without a meaning (`refuse_dropped`)
 
     # ----------------------------------------------------------------- reporting
 
@@ -310,7 +311,7 @@ class Resolver:
         expr_scope.global_names = self.global_names
         expr_scope.toolkit = scope.toolkit
         expr_scope.instantiate = self.instance
-        return ExprChecker(expr_scope, self.report, lambda node: self.type_of(scope, node, bindings))
+        return ExprChecker(expr_scope, self.report, lambda node: self.type_of(scope, node, bindings), self._kept)
 
     # ----------------------------------------------------------------- variables, events, operations
 
@@ -686,10 +687,14 @@ class Resolver:
         probability: Tree | None = None
         literal: Fraction | None = None
         guard: Tree | None = None  # `condition …`, for the error of one leaving a probabilistic junction
+        predicate: ast.Expr | None = None
         for item in tree.children[3:]:
             if item.data.startswith("comm_"):
                 event, kind, var, value = checker.communication(item)
-                if event is not None:
+                if kind == "predicate":
+                    # kept in place of the condition, so that the assertions that reach it are unsupported
+                    predicate = ast.UnsupportedExpr(BOOLEAN, pos_of(path, item), TRIGGER_PREDICATES)
+                elif event is not None:
                     trigger = ast.Trigger(event, kind, var, value)
             elif item.data == "empty_trigger":
                 self.report(pos_of(path, item.children[0]), "'trigger' with no event after it (an older RoboChart "
@@ -713,12 +718,13 @@ class Resolver:
                 action = checker.statement(item.children[0])
         if source is None or target is None:
             return None
+        condition = predicate or condition
         src, tgt = by_path[source], by_path[target]
         if src.kind == "final":
             self.error(path, tree.children[1], f"a transition cannot leave final state '{src.name}'", rule="FS1")
         if tgt.kind == "initial":
             self.error(path, tree.children[2], f"a transition cannot enter initial junction '{tgt.name}'", rule="IJ1")
-        if src.kind == "initial" and trigger is not None:
+        if src.kind == "initial" and (trigger is not None or predicate is not None):
             self.error(path, tree, f"the transition from initial junction '{src.name}' cannot have a trigger", rule="J3")
         # RoboTool's rules PJ1, PJ2 and PT1 (RoboChartValidator.transitionWFC), errors there too
         if src.probabilistic and probability is None:
@@ -1281,9 +1287,23 @@ class Resolver:
             if kind == "assertions":
                 assertions += self.assertions(path, tree, blocks, process_names)
         assertions = self._assertions_apart(assertions)
-        return ast.Project(root, tuple(p for p, _, _ in self.files), tuple(types), tuple(interfaces), tuple(functions),
-                           tuple(machines), tuple(operations), tuple(controllers), tuple(platforms), tuple(modules),
-                           tuple(blocks), tuple(assertions), sources=dict(texts))
+        project = ast.Project(root, tuple(p for p, _, _ in self.files), tuple(types), tuple(interfaces),
+                              tuple(functions), tuple(machines), tuple(operations), tuple(controllers),
+                              tuple(platforms), tuple(modules), tuple(blocks), tuple(assertions), sources=dict(texts))
+        self.refuse_dropped(project)
+        return project
+
+    def refuse_dropped(self, project: ast.Project) -> None:
+        """Make an error of each construct kept without a meaning (`ExprChecker.meaningless`) that
+        the project does not hold: an expression around one that has the error type may be built
+        as an error literal, so no check would see it and an assertion reaching it would be decided."""
+        held = {(x.pos, x.what) for x in ast.parts(project) if isinstance(x, (ast.UnsupportedExpr, ast.UnsupportedStmt))}
+        dropped = {(pos, f"unsupported: {what}{PER_ASSERTION}"): what for pos, what in self._kept
+                   if (pos, what) not in held}
+        for i, d in enumerate(self.diagnostics):
+            what = dropped.get((d.pos, d.message)) if d.severity == "warning" else None
+            if what is not None:
+                self.diagnostics[i] = Diagnostic(d.pos, f"unsupported: {what}", "error", d.rule)
 
     def _assertions_apart(self, assertions: list[ast.Assertion]) -> list[ast.Assertion]:
         """The assertions, each whose name another file also declares labelled with its file (its

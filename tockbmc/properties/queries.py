@@ -69,6 +69,11 @@ def _what_refuses(unroller: Unroller, model: z3.ModelRef, k: int) -> str:
 def query(project: ast.Project, a: ast.Assertion) -> Query:
     """The query for assertion `a`; raises `Unsupported` for forms not checked yet."""
     q = _query(project, a)
+    # A construct RoboTool accepts and tockbmc gives no meaning loads (`ast.UnsupportedExpr`):
+    # it is refused here, for the assertions whose elements hold it only.
+    meaningless = ast.unsupported_in(*q.reached)
+    if meaningless is not None:
+        raise Unsupported(meaningless.pos, meaningless.what)
     return replace(q, timed=False) if a.timing == "untimed" else q
 
 
