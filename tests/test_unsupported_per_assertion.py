@@ -53,6 +53,10 @@ CASES = {
     "a cast to a type that does not hold the value": (
         "", user("\tvar n : nat = 0\n", entry="entry n = true as nat"),
         "a cast 'as nat' of a value of type boolean", 15, 22),
+    "a call that does not fix a generic type": (
+        "function none(n : nat) : Set(?X) {\n\tpostcondition result == {}\n}\n",
+        user("\tvar q : Set(int) = {}\n", entry="entry q = none(1)"),
+        "a call of 'none' whose arguments do not fix its generic type ?X", 18, 22),
     "an assignment past an item": (
         "record R { a : int }\n", user("\tvar q : Seq(R) = <R (| a = 1 |)>\n", entry="entry q[1].a = 2"),
         "an assignment to a part of an item", 16, 18),
