@@ -764,15 +764,27 @@ def test_suggestion_for_unimported_literal_differs_from_the_name(tmp_path: Path)
 # ------------------------------------------------------------------ (k) unsupported constructs
 
 
-@pytest.mark.parametrize(("declaration", "column", "message"), [
-    ("var s : vector(int, x)", 23, "unsupported: a vector's or matrix's size that is not a number literal from 1 to 64"),
-    ("var s : boolean = (the k : int | k > 0 @ k > 1)", 22, "unsupported: definite descriptions ('the')"),
-    ("var s : boolean = (1 is int)", 22, "unsupported: toolkits (type tests 'is')"),
+def _machine_declaring(declaration: str) -> dict[str, str]:
+    return {"m.rct": f"stm M {{\n  var x : int = 0\n  {declaration}\n  initial i\n"
+                     "  state s {}\n  transition t0 { from i to s }\n}\n"}
+
+
+def test_unsupported_construct_at_its_line(tmp_path: Path) -> None:
+    write_files(tmp_path, _machine_declaring("var s : vector(int, x)"))
+    assert located(load_error(tmp_path)) == [
+        ("m.rct", 3, 23, "unsupported: a vector's or matrix's size that is not a number literal from 1 to 64")]
+
+
+@pytest.mark.parametrize(("declaration", "column", "what"), [
+    ("var s : boolean = (the k : int | k > 0 @ k > 1)", 22, "definite descriptions ('the')"),
+    ("var s : boolean = (1 is int)", 22, "toolkits (type tests 'is')"),
 ])
-def test_unsupported_construct_at_its_line(tmp_path: Path, declaration: str, column: int, message: str) -> None:
-    write_files(tmp_path, {"m.rct": f"stm M {{\n  var x : int = 0\n  {declaration}\n  initial i\n"
-                                    "  state s {}\n  transition t0 { from i to s }\n}\n"})
-    assert located(load_error(tmp_path)) == [("m.rct", 3, column, message)]
+def test_construct_without_a_meaning_loads_with_a_warning_at_its_line(
+        tmp_path: Path, declaration: str, column: int, what: str) -> None:
+    """The assertions that reach it are unsupported (tests/test_unsupported_per_assertion.py)."""
+    project = load(write_files(tmp_path, _machine_declaring(declaration)))
+    assert [(d.pos.line, d.pos.column, d.severity, d.message) for d in project.warnings] == [
+        (3, column, "warning", f"unsupported: {what}; the assertions that reach it are reported unsupported")]
 
 
 # ------------------------------------------------------------------ assertions of one name in several files
