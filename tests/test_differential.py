@@ -157,7 +157,10 @@ def _agree(rct: str, assertions: str, ranges: object = None) -> None:
 # `n = <x> ^ n` store -1 in a Seq(nat), where the explicit engine blocks the step (a deadlock);
 # environment_write_passed_on_to_three_copies: the explicit engine's lazy search copied a value not
 # chosen yet from the controller's memory into each machine's copy, and could not make its run
-# concrete (an internal error).
+# concrete (an internal error); trigger_deadline_restarts_when_its_condition_turns_false: BMC
+# restarted a trigger deadline's count only at a tock or on leaving its source, so a condition
+# made false and true again between tocks (by a during action, then an input) kept its count, and
+# BMC showed a timelock the interpreter could not replay.
 FORMER = Path(__file__).parent / "differential_cases"
 
 

@@ -786,7 +786,18 @@ class TransitionSystem:
             assert link is not None
             enabled.append(self.cur[names.buffer_full(link.index)])  # type: ignore[arg-type]
             post[names.buffer_full(link.index)] = z3.BoolVal(False)
+        self._restart_trigger_deadlines(post)
         return _Effect(enabled, choose, post, inputs, [])
+
+    def _restart_trigger_deadlines(self, post: dict[str, z3.ExprRef]) -> None:
+        """A trigger deadline's count restarts whenever its condition is false (docs/semantics.md
+        §4.6), whatever step made it so: a step from a configuration where it is false leaves the
+        count 0, so that it is 0 when the condition next holds (a tock resets it too)."""
+        for c, comp in enumerate(self.components):
+            for td in comp.automaton.trigger_deadlines:
+                if td.condition is not None:
+                    name = names.armed(comp.name, td.transition)
+                    post[name] = z3.If(self.armed(c, td), post.get(name, self.cur[name]), 0)  # type: ignore[assignment]
 
     def _buffer(self, link: Link) -> Value | None:
         t = _end_event(link).type
