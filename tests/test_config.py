@@ -124,6 +124,18 @@ idle(Mode_Fast) = 1
     assert idle.definition is not None and len(idle.preconditions) == 1  # defined on both literals
 
 
+def test_a_range_bound_may_name_a_constant_of_the_instantiation(tmp_path: Path) -> None:
+    """`nametype core_int = {LOW..HIGH}` with `LOW = -1` and `HIGH = LOW + 2` defined beside it, as
+    public projects write their instantiations."""
+    p = project(tmp_path, "HIGH = LOW + 2\nLOW = -1\nnametype core_int = { LOW..HIGH}\nSELF = SELF\n"
+                          "nametype core_nat = {0..SELF}\n")
+    config = configure(p)
+    assert config.ranges().describe()["core_int"] == "-1..1"
+    # a name defined by itself gives no number: that range is not used, and says so
+    assert [w.message for w in config.warnings] == ["unsupported: expected a number; 'core_nat' is not used"]
+    assert config.warnings[0].pos.line == 5
+
+
 def test_unset_constants_take_robotools_default_values(tmp_path: Path) -> None:
     p = project(tmp_path)
     [r] = check(p, bound=10)

@@ -1021,11 +1021,12 @@ class Configuration:
         helpers = {n: ds for n, ds in clauses.items() if n not in functions}
         body = inst.FunctionBody(functions, helpers, enums, records)
         defined: dict[int, ast.Function] = {}
+        named = {n: ds[-1] for n, ds in clauses.items()}
         for name, ds in clauses.items():
             d = ds[-1]
             try:
                 if d.nametype:
-                    self._nametype(name, d, types)
+                    self._nametype(name, d, types, named)
                 elif name in slots_by_name:
                     self._constant(name, d, slots_by_name[name])
                 elif name in functions:
@@ -1057,7 +1058,8 @@ class Configuration:
     def _warn(self, pos: ast.Pos, message: str) -> None:
         self.warnings.append(Diagnostic(pos, message, "warning"))
 
-    def _nametype(self, name: str, d: inst.Definition, types: dict[str, ast.Type]) -> None:
+    def _nametype(self, name: str, d: inst.Definition, types: dict[str, ast.Type],
+                  named: Mapping[str, inst.Definition]) -> None:
         if name in _IGNORED_TYPES:
             return
         t = CORE_TYPES.get(name) or types.get(name)
@@ -1067,7 +1069,7 @@ class Configuration:
             return
         if not (t in ast.NUMERIC or isinstance(t, ast.GivenType)):
             raise inst.NotUnderstood(d.pos, f"'{name}' is not a numeric type or a type declared with 'type'")
-        low, high = inst.interval(d, d.body)
+        low, high = inst.interval(d, d.body, named)
         key = name if name in CORE_TYPES else t.name
         r = Range(low, high)
         try:

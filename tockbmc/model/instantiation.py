@@ -16,7 +16,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
@@ -255,16 +255,25 @@ def mangle(qname: str) -> str:
     return qname.replace("::", "_")
 
 
-def number(d: Definition, node: Node) -> Fraction:
-    """An integer constant expression: a number, a negation, arithmetic of numbers."""
+def number(d: Definition, node: Node, named: Mapping[str, Definition] | None = None) -> Fraction:
+    """An integer constant expression: a number, a negation, arithmetic of numbers, and (with
+    `named`, the block's definitions `N = e`) a name defined so (`REAL_MAX = 2`)."""
     if isinstance(node, Tree):
         if node.data == "number":
             return Fraction(int(str(node.children[0])))
+        if node.data == "name" and named:
+            other = named.get(str(node.children[0]))
+            if other is not None and other.params is None and not other.nametype and not other.skipped:
+                rest = {k: v for k, v in named.items() if k != other.name}  # a name defined by itself stops here
+                try:
+                    return number(other, other.body, rest)
+                except NotUnderstood:
+                    pass
         if node.data == "negate":
-            return -number(d, node.children[0])
+            return -number(d, node.children[0], named)
         if node.data == "arith":
             left, op, right = node.children
-            a, b = number(d, left), number(d, right)
+            a, b = number(d, left, named), number(d, right, named)
             if str(op) == "+":
                 return a + b
             if str(op) == "-":
@@ -274,15 +283,16 @@ def number(d: Definition, node: Node) -> Fraction:
     raise NotUnderstood(d.at(node), "expected a number")
 
 
-def interval(d: Definition, node: Node) -> tuple[Fraction, Fraction]:
-    """`{a..b}`, or a set of integers without gaps (`{-1,0,1}`), as its bounds."""
+def interval(d: Definition, node: Node, named: Mapping[str, Definition] | None = None) -> tuple[Fraction, Fraction]:
+    """`{a..b}`, or a set of integers without gaps (`{-1,0,1}`), as its bounds; its numbers may
+    name the block's constants (`number`)."""
     if isinstance(node, Tree) and node.data == "interval":
-        low, high = number(d, node.children[0]), number(d, node.children[1])
+        low, high = number(d, node.children[0], named), number(d, node.children[1], named)
         if low > high:
             raise NotUnderstood(d.at(node), "an empty interval")
         return low, high
     if isinstance(node, Tree) and node.data == "set" and node.children:
-        values = sorted({number(d, c) for c in node.children})
+        values = sorted({number(d, c, named) for c in node.children})
         if all(b - a == 1 for a, b in zip(values, values[1:], strict=False)):
             return values[0], values[-1]
         raise NotUnderstood(d.at(node), "a set of values with gaps; tockbmc's ranges are intervals")
