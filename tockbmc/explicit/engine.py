@@ -162,6 +162,7 @@ class Search:
         self.succ: dict[Hashable, list[Edge]] = {}
         self.raw: dict[Config, tuple[Config, list[Step]]] = {}  # the canonical configuration and its steps
         self.split: dict[Config, list[Config]] = {}  # a configuration to the canonical ones it stands for
+        self.configs: dict[Config, Config] = {}  # every configuration a step leads to, one object each
         self.witness: tuple[Hashable, tuple[TraceStep, ...]] | None = None  # the last run `trace` gave
         self.every_choice: Hashable | None = None  # a witness `for_every_choice` showed for every function
 
@@ -181,7 +182,7 @@ class Search:
         for part, steps in self.interp.expand(config):
             known = self.raw.get(part)
             if known is None:
-                known = self.raw[part] = (part, steps)
+                known = self.raw[part] = (part, self._canonical(steps))
             parts.append(known[0])
         if len(parts) != 1 or parts[0] is not config:
             self.split[config] = parts
@@ -204,7 +205,7 @@ class Search:
             # The cycle proviso: a node whose ample step leads to a node already expanded is expanded
             # in full, so that on every cycle of the reduced graph the node expanded last is.
             if ample is not None and not any((st.target, mon) in self.succ for st in ample):
-                hit = (config, ample)
+                hit = (config, self._canonical(ample))
         if hit is None:
             if self.interp.splits:
                 self.parts(config)
@@ -213,7 +214,7 @@ class Search:
                     raise Unsupported(None, "this check of a model with a function it leaves open (or an input "
                                             "read late) needs the configurations the explicit engine splits")
             else:
-                hit = (config, self.interp.steps(config, known=known))
+                hit = (config, self._canonical(self.interp.steps(config, known=known)))
                 if self.monitor is not None:  # kept for the configuration's other monitor states
                     self.raw[config] = hit
         raw = hit[1]
@@ -238,9 +239,21 @@ class Search:
                            else self._monitor_after(mon, s))
             kind = s.kind if visible else "internal"
             note = s.note or (_hidden_note(s) if status == "hidden" else "")
-            out.append(Edge(Step(kind, s.event if visible else None, s.target, note), (s.target, nxt_mon), s))
+            event = s.event if visible else None
+            shown_as = s if (kind, event, note) == (s.kind, s.event, s.note) else Step(kind, event, s.target, note)
+            out.append(Edge(shown_as, (s.target, nxt_mon), s))
         self.succ[key] = out
         self.transitions += len(out)
+        return out
+
+    def _canonical(self, steps: list[Step]) -> list[Step]:
+        """`steps`, each leading to the one object of its target configuration that the search
+        keeps: a configuration reached again is stored once, not once per step into it."""
+        out = []
+        canon = self.configs
+        for st in steps:
+            target = canon.setdefault(st.target, st.target)
+            out.append(st if target is st.target else Step(st.kind, st.event, target, st.note))
         return out
 
     def _status(self, s: Step) -> str:
