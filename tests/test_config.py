@@ -535,10 +535,10 @@ module Mod {
 
 
 def test_an_instance_is_one_instance_whichever_element_it_is_named_from(tmp_path: Path) -> None:
-    """Review, session 16: `Mod::c::stm_ref0::CC` was dropped when ctrl0 was checked alone (but
-    applied to STM alone), two names of one instance with two values were an internal error, and a
-    constant with a value in the model, or a controller's (shared by its instances), silently took
-    the value for every instance."""
+    """`Mod::c::stm_ref0::CC` applies when ctrl0 is checked alone, as it does to STM alone; two names
+    of one instance with two values are refused, and so is a value for a constant with a value in
+    the model, or for a controller's (one for all its instances), rather than taken for every
+    instance."""
     write_files(tmp_path, {"m.rct": INSTANCES_IN_A_MODULE, "m.assertions": (
         "assertion M: Mod terminates.\nassertion C: ctrl0 terminates.\nassertion S: STM terminates.\n")})
     out = run_cli(["check", str(tmp_path), "--format", "json", "--set", "Mod::c::stm_ref0::CC=1",
@@ -559,6 +559,18 @@ def test_an_instance_is_one_instance_whichever_element_it_is_named_from(tmp_path
     ]:
         out = run_cli(["check", str(tmp_path), *[x for v in settings for x in ("--set", v)]])
         assert out.exit_code == 2 and message in out.output, out.output
+
+
+def test_an_instance_path_does_not_reach_the_same_machine_in_another_controller() -> None:
+    """`--set ctrl0::stm_ref0::CC=1` sets ctrl0's instance only, not ctrl1's stm_ref0, though both
+    end at STM."""
+    out = run_cli(["check", str(Path(__file__).parent / "models" / "instance_paths"), "--format", "json",
+                   "--set", "ctrl0::stm_ref0::CC=1"])
+    results = {r["assertion"]: r for r in json.loads(out.stdout)["results"]}
+    assert results["B"]["verdict"] == "holds" and "ctrl1::stm_ref0::CC" not in results["B"]["constants"]
+    assert results["C"]["verdict"] == "violated" and results["C"]["constants"]["ctrl0::stm_ref0::CC"] == "1"
+    assert results["A"]["constants"]["Mod::c0::stm_ref0::CC"] == "1"
+    assert "Mod::c1::stm_ref0::CC" not in results["A"]["constants"]
 
 
 def test_an_instantiation_line_nothing_reads_is_not_parsed_and_a_pathological_one_is_refused(

@@ -435,8 +435,9 @@ class TransitionSystem:
         """The items of a variable's sequences and sets of `nat` (in records, tuples, …) are of
         their type in every configuration, as every step that stores one checks (`fits`). For a
         variable some step gives a fold's value (`reverse`, `filter`), that is an axiom of each
-        step: Z3 does not derive it through the fold (`unknown` on tests/models/review17/filt), and
-        elsewhere it would only add a quantifier (`unknown` on a deadlock of review17/dw's V)."""
+        step: Z3 does not derive it through the fold (`unknown` on
+        tests/models/seq_and_function_values/filt), and elsewhere it would only add a quantifier
+        (`unknown` on a deadlock of seq_and_function_values/dw's V)."""
         if base in self._kept:
             return
         self._kept.add(base)

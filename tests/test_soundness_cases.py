@@ -1,4 +1,4 @@
-"""Regression tests for soundness problems found in review, each a tiny model with a hand-derived verdict."""
+"""Rules of the semantics that are easy to get wrong, each pinned by a tiny model with a hand-derived verdict."""
 
 from __future__ import annotations
 
@@ -84,11 +84,11 @@ stm M {
     expect(rs["NU"], "violated")
 
 
-# ---------------------------------------------------------------------------- CSP review (session 3)
-# Models a reviewer wrote to break the CSP support (tests/csp_review/h*/). Expected verdicts follow
+# ------------------------------------------------------------------------------- CSP edge cases
+# Models written to probe the corners of the CSP support (tests/csp_cases/h*/). Expected verdicts follow
 # semantics.md §3–§4; "unsupported" marks what tockbmc declines rather than answers wrongly.
 
-CSP_REVIEW = Path(__file__).parent / "csp_review"
+CSP_CASES = Path(__file__).parent / "csp_cases"
 CSP_EXPECTED = {
     # A prefix before the model, hidden: its event is internal, so <M::a.in> is P's and not S's.
     "h1": {"A1": "violated", "A2": "unsupported", "A3": "holds"},
@@ -116,8 +116,8 @@ CSP_EXPECTED = {
 
 
 @pytest.mark.parametrize("case", sorted(CSP_EXPECTED))
-def test_csp_review_case(case: str) -> None:
-    results = {r.assertion: r.verdict for r in check(load(CSP_REVIEW / case), bound=12)}
+def test_csp_case(case: str) -> None:
+    results = {r.assertion: r.verdict for r in check(load(CSP_CASES / case), bound=12)}
     assert results == CSP_EXPECTED[case]
 
 
@@ -235,7 +235,8 @@ def test_replay_looks_for_the_cycle_of_a_divergence(tmp_path: Path, monkeypatch:
         replay.can_diverge(*start("saved = saved + 1", "true"))  # for ever, never the same
 
 
-# Found by the session-14 review of its own diff, each by a model of the reviewer's.
+# Models for the interpreter and BMC disagreeing on values, divergence in the failures-divergences
+# model, the subset construction's timeout and name clashes with the global scalars.
 REAL = """interface I { event a : int event b }
 stm M {
   uses I
