@@ -349,7 +349,7 @@ def assertions_text(states: list[str], pick: Callable[[list], object], specs: bo
     return text
 
 
-# The timed negations the nine leave out (with the untimed forms, since session 14).
+# The timed negations the nine leave out (checked with the untimed forms).
 NEGATED = ["M is not deadlock-free", "M is not divergence-free", "M is not deterministic"]
 
 UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is divergence-free",
@@ -360,7 +360,7 @@ UNTIMED = ["M does not terminate", "M is deadlock-free", "M terminates", "M is d
 # termination, M offers every value of some channel; `AnyOrStop` may also refuse everything at the
 # start; `Ext` accepts every channel at once; `TAny`, in a Timed section, also accepts tock.  `Few`
 # and `Stopped` refine M (the specification on the left) where M has their traces and refusals;
-# `equals` and `is not equal to` (since session 14) check both directions.
+# `equals` and `is not equal to` check both directions.
 FAILURES = """csp FSpecs csp-begin
 Any = (M::a.in?x -> Any) |~| (M::b.out?x -> Any) |~| (M::c.in -> Any) |~| (M::c.out -> Any)
       |~| (M::opCall?x -> Any) |~| (M::terminate -> SKIP)

@@ -170,10 +170,10 @@ controller M {
 
 def test_a_connection_between_machines_joins_only_the_senders_output_with_the_receivers_input(
         tmp_path: Path) -> None:
-    """A second review's finding, older than session 10: BMC paired every edge of the two ends of a
-    machine-to-machine connection, two outputs included, so B's own `e!1` was a hidden step with
-    A's and `C refines STOP` held; docs/semantics.md §5.1 joins A's output with B's input only, and
-    B's output, against the connection, is seen as `B::e.out.1` (§5.3), as the explicit engine had it."""
+    """Not every edge of the two ends of a machine-to-machine connection is paired: pairing two
+    outputs would make B's own `e!1` a hidden step with A's, and `C refines STOP` hold;
+    docs/semantics.md §5.1 joins A's output with B's input only, and B's output, against the
+    connection, is seen as `B::e.out.1` (§5.3), in both engines."""
     write_files(tmp_path, {"m.rct": """
 package b
 interface IE { event e : int }

@@ -168,7 +168,7 @@ def test_a_transition_without_actions_restarts_or_starts_a_during_action(tmp_pat
                                                                       trace: list[str]) -> None:
     """A transition with no exit, transition or entry action in between is one step from the state
     left to the child entered, which is also the step that starts the entered state's during action
-    (session 13 review: BMC's product first copied such steps to the child without its action)."""
+    (BMC's product must not copy such steps to the child without its action)."""
     assertions = f"timed csp Spec csp-begin\n  {spec}\ncsp-end\nassertion R: M refines Spec in the traces model.\n"
     project = load(write_files(tmp_path / "m", {"m.rct": REENTRY, "m.assertions": assertions}))
     bmc, explicit = both_engines(project, RANGES, 20)
@@ -180,7 +180,7 @@ def test_a_transition_without_actions_restarts_or_starts_a_during_action(tmp_pat
 
 def test_variables_named_like_the_machine_s_bookkeeping_stay_apart(tmp_path: Path) -> None:
     """A variable `during_wait` (or `deadline`, `loc`) is not the during action's wait counter
-    (session 13 review: both were the scalar `M.during_wait`, so the assignment cut the wait short)."""
+    (were both the scalar `M.during_wait`, the assignment would cut the wait short)."""
     model = """\
 stm M {
   var during_wait : int = 0

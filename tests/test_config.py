@@ -230,7 +230,7 @@ def test_constant_names_resolve_to_declarations(tmp_path: Path) -> None:
         configure(p, settings={"MM::p": "1"})
     with pytest.raises(ConfigError, match="no constant named 'mod'; did you mean 'mode'"):
         configure(p, settings={"mod": "Fast"})
-    # Two names of one declaration are not two instances: the last value had won for both (review, session 15).
+    # Two names of one declaration are not two instances: two values for it are refused, not the last taken.
     with pytest.raises(ConfigError, match="mode and M::mode both name constant M::mode"):
         configure(p, settings={"mode": "Fast", "M::mode": "Slow"})
 
@@ -301,7 +301,7 @@ def test_range_names_must_exist(tmp_path: Path, name: str, low: int, high: int, 
     (["--range", "core_int=2..1"], "LO <= HI"),
     (["--range", "core_itn=0..1"], "did you mean 'core_int'"),
     (["--param", "UR::n_waypoint"], "did you mean 'UR::n_waypoints'"),
-    # session 17: the last value had been taken silently
+    # two values for one constant are refused rather than the last taken silently
     (["--set", "UR::n_waypoints=1", "--set", "UR::n_waypoints=2"], "UR::n_waypoints is given two values, 1 and 2"),
     (["-a", "A11"], "no assertion named 'A11'; did you mean 'A1'? (known: A1, A2"),
     (["-a", "a5"], "did you mean 'A5'?"),

@@ -34,7 +34,7 @@ DIFFERENCES: dict[tuple[str, str], tuple[str, str]] = {}
 # (case, assertion) -> why tockbmc leaves it undecided (`unknown`) at this bound.
 UNDECIDED = {
     ("clocks5", "R3timed"): "'terminates': termination takes 13 steps (holds at the default bound 40)",
-    ("test15", "A0"): "checked since session 13 (RoboTool's record field test15_DT_p in STMSpec): STMSpec's traces, a "
+    ("test15", "A0"): "checked through RoboTool's record field test15_DT_p in STMSpec: STMSpec's traces, a "
                       "received record then tocks, are more than 256 at half the bound",
 }
 
@@ -51,16 +51,16 @@ DECIDED_BY_THE_EXPLICIT_ENGINE = {
 }
 
 # Seconds for an assertion of UNDECIDED: no verdict is expected, only that it gives no wrong one
-# (test1 t1b spent the 60 s of the others; 5 s since session 13, when the default run reached 289 s).
+# (test1 t1b would spend the 60 s of the others; at 60 s the default run took 289 s).
 UNDECIDED_TIMEOUT = 5
 
 # Cases that load but are not checked here: their assertions take longer than this suite can spend.
 NOT_CHECKED = {
-    "AutonomousChemicalDetector": "loads since quantifiers and generic functions (issue 15); 11 of its 20 "
+    "AutonomousChemicalDetector": "loads (it needs quantifiers and generic functions); 11 of its 20 "
                                   "assertions hold in seconds, 7 reach the 60 s timeout (a6, a11-a16: "
                                   "the module's runs with the quantified axioms of its functions), a7 and a9 "
                                   "are unsupported; benchmarks/conformance.py checks it",
-    "Example1": "loads since session 13 (a composite state's during action beside its children): BMC needs "
+    "Example1": "loads (it needs a composite state's during action beside its children): BMC needs "
                 "more than 12 steps and 10 s for each assertion (A0 and A1 hold at bound 40 in about 5 s, "
                 "tests/test_composite_during.py; the explicit engine decides all five at once); "
                 "benchmarks/conformance.py checks it",
@@ -85,8 +85,8 @@ UNTIMED_CHECKED = {("test2", "t2a"): "holds", ("test2", "t2b"): "holds", ("test2
                    ("test12", "A1"): "holds", ("test12", "A2"): "holds"}
 
 
-# Left to benchmarks/conformance.py, where they are decided: each takes over a minute here (those
-# before session 14).
+# Left to benchmarks/conformance.py, where they are decided: each takes over a minute here (the
+# first group) or several seconds (the second).
 # ChemicalDetector a4 (untimed, the whole controller against Spec1) holds by Spacer's invariant.
 # clocks4-required A1 (Spec equals M::Mod in the FD model) needs more than 12 steps for Spec's
 # traces (it holds at the default bound, in about 15 s).
@@ -94,11 +94,11 @@ UNTIMED_CHECKED = {("test2", "t2a"): "holds", ("test2", "t2b"): "holds", ("test2
 # traces and observations listed, 56 to 224 refusals each a BMC search) take 17 to 35 s each;
 # multi_final_state A1 (TSpec's ev1.in?x listed over core_int: 152 checks) 30 s.  clocks7 A0 (as
 # clocks6 A0: its specification's traces are not all performed within 12 steps, unknown) 21 s.
-# clocks8 A0 (a composite state's during action beside its child, session 13): BMC times out at
+# clocks8 A0 (a composite state's during action beside its child): BMC times out at
 # depth 10 here; it holds at bound 40 by Spacer's invariant, and in the explicit engine.
-# Session 14, when the default run had reached 287 s: the assertions that took 3.5 s and more
+# With the default run at 287 s, the assertions that took 3.5 s and more
 # each here (measured one at a time, idle): AlphaAlgorithm a9 (6.7 s), b2 (5.3 s), b1 (4.7 s: c?x:S
-# and a tuple-valued output in an untimed specification, session 12) and a7 (3.6 s), all holding; and two left unknown at their 5 s, test1 t1b
+# and a tuple-valued output in an untimed specification) and a7 (3.6 s), all holding; and two left unknown at their 5 s, test1 t1b
 # (timed_test1_spec hides a channel of its own, `channel int__`; `S equals` it is not decided in
 # this suite's time: BMC times out at depth 12, the explicit engine finds its traces too many to
 # list; t1a, the untimed one, holds) and clocks6 A0 (MSpec reads the time it receives, listed value
@@ -211,13 +211,13 @@ def test_the_portfolio_decides_what_bmc_alone_leaves_undecided() -> None:
 
 
 # The specification on the left with more traces than are listed (256): decided over the sets of
-# the model's configurations after each trace (session 14, `explicit.engine._subsets`); before,
-# test4's were unknown here and test13 STM0 and test14 A0 took 7.3 s and 4.0 s (holding at depth 12
-# with the traces that could be listed).
-# Since session 15 the construction also follows a listing that gave no verdict (test13 C0/M0 and
+# the model's configurations after each trace (`explicit.engine._subsets`); by listing alone,
+# test4's are unknown here and test13 STM0 and test14 A0 take 7.3 s and 4.0 s (holding at depth 12
+# with the traces that can be listed).
+# The construction also follows a listing that gave no verdict (test13 C0/M0 and
 # clocks5 A0: the specification's traces need more than 12 steps of the model; UC0/UM0: the refusal
-# searches after UCTSpec's 81 traces ran out of time), with the listing held to half the time: the
-# five were unknown here.
+# searches after UCTSpec's 81 traces ran out of time), with the listing held to half the time: by
+# listing alone the five are unknown here.
 SUBSETS_CHECKED = {("test4", "a4a"): "holds", ("test4", "a4b"): "holds", ("test13", "STM0"): "holds",
                    ("test14", "A0"): "holds", ("test13", "C0"): "holds", ("test13", "M0"): "holds",
                    ("test13", "UC0"): "holds", ("test13", "UM0"): "holds",

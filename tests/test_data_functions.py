@@ -1,5 +1,5 @@
-"""Function types, `lambda`, set comprehensions, `s[i] = e` and the toolkit functions added in
-session 8 (issue 15): each model's verdicts worked out by hand, decided by BMC and by the explicit
+"""Function types, `lambda`, set comprehensions, `s[i] = e` and the toolkit functions of
+RoboChart's data language: each model's verdicts worked out by hand, decided by BMC and by the explicit
 engine, which must agree."""
 
 from __future__ import annotations
@@ -370,7 +370,7 @@ def test_a_function_whose_conditions_read_a_record_parameter(tmp_path: Path) -> 
 def test_a_function_value_s_result_type_binds_only_the_step_that_applies_it(tmp_path: Path) -> None:
     """`f : nat -> nat = lambda x : nat @ x - 5` applied only on a transition never taken: BMC had
     asserted `f(y + 1) >= 0` at every step, which with y = 0 cut every run (deadlock-free was proved,
-    dead unreachable; review, session 15). It is now a condition of the step that applies it."""
+    dead unreachable). It is now a condition of the step that applies it."""
     (tmp_path / "m.rct").write_text("""
 stm M {
   var f : nat -> nat = lambda x : nat @ x - 5
@@ -403,8 +403,8 @@ stm M {
 ])
 def test_a_function_value_applied_in_a_nested_scope_binds_only_its_step(tmp_path: Path, where: str) -> None:
     """The same, applied inside a quantifier, a set comprehension, a function's body or an
-    output's value: BMC had still asserted the result's type at every step there (session 15's
-    known difference, docs/semantics.md §10); it is now a condition of the step that evaluates it,
+    output's value: BMC had still asserted the result's type at every step there (a known
+    difference then, docs/semantics.md §10); it is now a condition of the step that evaluates it,
     for every value of the bound variables where the scope is evaluated."""
     (tmp_path / "m.rct").write_text(f"""
 function g(h : nat -> nat, a : int) : nat {{ postcondition result == h(a) }}
@@ -435,7 +435,7 @@ stm M {{
     ("forall f : nat -> nat @ f(0) >= 0", "holds"),
     ("forall f : nat -> nat @ f(0) == 0", "violated"),
     ("exists f : nat -> nat @ f(0) < 0", "violated"),
-    # review, session 16: assumed by the innermost scope, not the one binding f (wrong `holds`)
+    # assumed by the scope binding f, not the innermost one (which would give a wrong `holds`)
     ("exists f : nat -> nat @ forall x : nat @ f(x) < 0", "violated"),
     ("exists f : nat -> nat @ not (exists x : nat @ f(x) >= 0)", "violated"),
     ("exists f : nat -> nat @ {x : nat | f(x) >= 0} == {}", "violated"),
@@ -447,7 +447,7 @@ def test_a_quantified_function_ranges_over_the_functions_into_its_type(tmp_path:
                                                                        reachable: str) -> None:
     """`exists f : nat -> nat @ f(0) == 3`: the result's type was asserted for every f (false in
     Z3, whose arrays hold any integers) as an axiom or a condition of the step, so the transition
-    never fired (review, session 16). It is now assumed by the quantifier, as its domain is."""
+    never fired. It is now assumed by the quantifier, as its domain is."""
     (tmp_path / "m.rct").write_text(f"""
 function g(h : nat -> nat, a : nat) : nat {{ postcondition result == h(a) }}
 stm M {{
@@ -468,7 +468,7 @@ def test_a_function_nobody_set_gives_results_in_its_type_wherever_it_is_applied(
                                                                                 condition: str) -> None:
     """`var f : nat -> nat` without a value is any function into nat: `e` is always offered. Passed
     to a function's parameter or named by a `let`, its result's type had become a condition of the
-    step, and BMC chose f(0) = -1 to block it (a wrong `violated`, review, session 16); applied
+    step, and BMC chose f(0) = -1 to block it (a wrong `violated`); applied
     directly, the replay of the divergence check had ended in an internal error."""
     (tmp_path / "m.rct").write_text(f"""
 function g(h : nat -> nat, a : nat) : int {{ postcondition result == h(a) }}
@@ -491,7 +491,7 @@ stm M {{
 @pytest.mark.parametrize("transition", ["trigger e <{1} condition f(y) == 0", "trigger e <{f(y)}"])
 def test_a_function_value_applied_in_a_trigger_deadline_is_unsupported(tmp_path: Path, transition: str) -> None:
     """Its result's type was made a condition of every configuration at the source, which cut the
-    step into it (`s is reachable` violated; review, session 16); it would be a condition of the
+    step into it (`s is reachable` violated); it would be a condition of the
     tock, which the deadline's counting does not carry."""
     (tmp_path / "m.rct").write_text(f"""
 stm M {{
@@ -512,7 +512,7 @@ stm M {{
 
 def test_the_explicit_engine_keeps_a_result_in_the_type_of_the_place_applied(tmp_path: Path) -> None:
     """`nat -> nat = lambda x : nat @ x - 5` applied to 1: the interpreter checked the lambda's own
-    range (int) and went on with -4, where BMC keeps the result in nat (review, session 16)."""
+    range (int) and went on with -4, where BMC keeps the result in nat."""
     (tmp_path / "m.rct").write_text("""
 stm M {
   var f : nat -> nat = lambda x : nat @ x - 5

@@ -1,4 +1,4 @@
-"""Quantifiers, generic functions, lambda and the rest of RoboChart's data language (issue 15):
+"""Quantifiers, generic functions, lambda and the rest of RoboChart's data language:
 loaded, decided by BMC in Z3's theories and by the explicit engine, which must agree."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Sequences, sets, tuples and `let` (issue 15): loaded, checked by BMC in Z3's theories, run by
+"""Sequences, sets, tuples and `let`: loaded, checked by BMC in Z3's theories, run by
 the interpreter, and each counterexample replayed; both engines give the same verdicts."""
 
 from __future__ import annotations
@@ -309,7 +309,7 @@ def test_a_record_literal_omitting_fields_in_an_action_is_not_interpreted(tmp_pa
 def test_a_given_field_keeps_its_value_whatever_its_range(tmp_path: Path) -> None:
     """Only the omitted fields are open: the given p = 5 is not drawn from core_real's range, which
     has no integer the interpreter could list (it had been, leaving no initial configuration: the
-    explicit engine said `holds` where both now say `violated`; review, session 15)."""
+    explicit engine said `holds` where both now say `violated`)."""
     (tmp_path / "m.rct").write_text("datatype R { p : real  q : nat }\nstm M {\n  var r : R = R(|p = 5|)\n"
                                     "  event out : nat\n  initial i\n  state S0 { }\n  state Bad { }\n"
                                     "  transition t0 { from i to S0 action out!r.q }\n"
@@ -326,7 +326,7 @@ def test_a_given_field_keeps_its_value_whatever_its_range(tmp_path: Path) -> Non
 def test_a_record_literal_omitting_fields_given_to_a_constant_is_unsupported(tmp_path: Path) -> None:
     """`with constant c of N set to (R(|p = 1|))`: a value given, not an initial value; the
     interpreter took it as a record without q (BMC's subset construction then said `violated`
-    where the answer is `holds`; review, session 15)."""
+    where the answer is `holds`)."""
     (tmp_path / "m.rct").write_text("datatype R { p : nat  q : nat }\nstm N {\n  const c : R\n  event go\n"
                                     "  initial i\n  state S0 { }\n  state Q { }\n  transition t0 { from i to S0 }\n"
                                     "  transition tc { from S0 to Q condition c == R(|p = 1, q = 0|) action go }\n}\n")
@@ -364,7 +364,7 @@ stm M {
 ])
 def test_a_negative_value_is_never_stored_in_a_nat(tmp_path: Path, action: str, condition: str) -> None:
     """`n = n - 1` from 0 in a `nat`: the explicit engine blocks the step, BMC took it, and the replay
-    of BMC's run to `bad` ended in an internal error (a known difference until session 16). BMC
+    of BMC's run to `bad` ended in an internal error. BMC
     now blocks it too: in a field, a record and a literal's parameter as well."""
     write_files(tmp_path, {"m.rct": NEGATIVE_NAT.replace("ACTION", action).replace("CONDITION", condition),
                            "m.assertions": "assertion R: bad is reachable in M.\n"})

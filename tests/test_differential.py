@@ -43,14 +43,14 @@ def cases(draw: st.DrawFn, make: Callable, specs: bool = False, untimed: bool = 
     return rct, assertions
 
 
-# With divergence-freedom and determinism among the forms (session 6), machines cost about 1.5 s a
-# case, controllers of two or three machines about 6 s (two runs side by side), machines with four
-# refinements about 1 s, machines with data about 1 s (the same draw each run): 8 + 1 + 5 + 3 (+ 3
-# untimed) keep the whole default run well under five minutes (session 10: 4 machines, and one controller
-# with a bidirectional connection, to stay under it with the new forms) (session 7: the suite took
-# 3 m 20 s to 5 m 0 s on this two-core machine as its speed varied, with 18 + 3); TOCKBMC_DIFF_CASES=N
-# runs N of each, and `benchmarks/differential.py` runs more (session 7: 2,517 definite comparisons
-# with --untimed, 963 with --data, all agreeing).
+# With divergence-freedom and determinism among the forms, machines cost about 1.5 s a case,
+# controllers of two or three machines about 6 s (two runs side by side), machines with four
+# refinements about 1 s, machines with data about 1 s (the same draw each run): the counts of
+# cases below keep the whole default run well under five minutes (with 18 + 3 the suite took 3 m 20 s
+# to 5 m 0 s on a two-core machine as its speed varied; the controller has a bidirectional
+# connection); TOCKBMC_DIFF_CASES=N runs N of each, and `benchmarks/differential.py` runs more
+# (2,517 definite comparisons with --untimed and 963 with --data in one of its runs, all agreeing;
+# benchmarks/results/).
 CASES = os.environ.get("TOCKBMC_DIFF_CASES")
 
 
@@ -81,14 +81,14 @@ def test_engines_agree_on_random_machines_against_specifications(case: tuple[str
     _agree(*case)
 
 
-# Sequences, sets and tuples in variables, an input sequence, guards and updates (issue 15).
+# Sequences, sets and tuples in variables, an input sequence, guards and updates.
 @_settings(2)
 @given(cases(data_machine_text))
 def test_engines_agree_on_random_machines_with_data(case: tuple[str, str]) -> None:
     _agree(*case, ranges=_cases.DATA_RANGES)
 
 
-# An enumeration whose literals take parameters, built, compared, sent and received (issue 15).
+# An enumeration whose literals take parameters, built, compared, sent and received.
 def _enum_machine_text(pick: Callable[[list], object], number: Callable[[int, int], int]) -> tuple[str, list[str]]:
     return machine_text(pick, number, enums=True)
 
@@ -110,7 +110,7 @@ def test_engines_agree_on_random_machines_untimed_and_in_the_failures_models(cas
 
 
 # Refinements in the tick-tock model (docs/semantics.md §7.13) alone, five a machine, about 2 s a
-# case (`benchmarks/differential.py --tick-tock` runs more); one since session 10, to keep the default run
+# case (`benchmarks/differential.py --tick-tock` runs more); one, to keep the default run
 # under five minutes.
 @_settings(1)
 @given(cases(machine_text, timed=False, tick_tock=True))
@@ -137,7 +137,7 @@ def test_engines_agree_on_random_controllers_with_a_bidirectional_connection(cas
 
 
 # Seconds for each engine on an assertion: an outcome past it is only not compared.  8, not the
-# benchmark's 20, since session 14: the second of the default run's random machines has an
+# benchmark's 20: the second of the default run's random machines has an
 # assertion (A8, determinism, with a clock and a deadline) that BMC does not decide in 60 s (the
 # explicit engine: holds in 1.6 s), and it cost 20 s of the suite's time.
 TIMEOUT = 8

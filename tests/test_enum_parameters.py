@@ -1,4 +1,4 @@
-"""Enumerations whose literals take parameters (`EM2(real)`, issue 15): an algebraic datatype in
+"""Enumerations whose literals take parameters (`EM2(real)`): an algebraic datatype in
 Z3 for BMC, `Variant` values in the interpreter; both engines decide them and agree, BMC's
 counterexamples are replayed, and misuse is a load error with its position."""
 
@@ -144,7 +144,7 @@ assertion E: S refines Echo in the traces model.
 
 def test_a_literal_with_parameters_beside_an_imported_toolkit(tmp_path: Path) -> None:
     """With a toolkit imported, `EM3(1)` is still the literal, not an unknown toolkit function (the
-    differential's `--enums --data` cases were all refused so until session 13's end)."""
+    differential's `--enums --data` cases import one)."""
     project = load(write_files(tmp_path / "m", {"m.rct": "import sequence_toolkit::*\n" + MODEL}))
     [machine] = project.machines
     assert {v.name: str(v.initial.args[0].value) for v in machine.variables if v.name == "o"} == {"o": "1"}

@@ -227,7 +227,7 @@ stm U {
 def test_no_witness_within_the_bound_decides_nothing(tmp_path: Path) -> None:
     """`c is reachable in V` holds for every k, reached after max(k, 0) internal steps: within 6 steps
     only for k ≤ 2. The region says where a witness was found, and nothing of the rest (it read
-    "holds ⇔ k ≤ 2, exact for runs of up to 6 steps", as if k = 8 were a violation; review, session 15)."""
+    "holds ⇔ k ≤ 2, exact for runs of up to 6 steps", as if k = 8 were a violation)."""
     (tmp_path / "m.rct").write_text(WITNESS_MODEL)
     (tmp_path / "m.assertions").write_text("assertion R1: c is reachable in V.\n")
     [e] = explore(tockbmc.load(tmp_path), bound=6, ranges={"core_int": Range(Fraction(0), Fraction(10))}, timeout=60)
@@ -238,7 +238,7 @@ def test_no_witness_within_the_bound_decides_nothing(tmp_path: Path) -> None:
 
 
 def test_functions_without_a_body_make_regions_unsupported(tmp_path: Path) -> None:
-    """A region over `g(k)` is not a set of values of k (review, session 15: `holds ⇔ 1 == g(U::k)`)."""
+    """A region over `g(k)` is not a set of values of k (such as `holds ⇔ 1 == g(U::k)`)."""
     (tmp_path / "m.rct").write_text(WITNESS_MODEL)
     (tmp_path / "m.assertions").write_text("assertion R1: f is reachable in U.\nassertion R2: U is deadlock-free.\n")
     for e in explore(tockbmc.load(tmp_path), ranges={"core_int": Range(Fraction(-1), Fraction(1))}, timeout=60):
@@ -246,7 +246,7 @@ def test_functions_without_a_body_make_regions_unsupported(tmp_path: Path) -> No
 
 
 def test_a_model_without_assertions_explores_the_core_assertions(tmp_path: Path) -> None:
-    """As `check` does (session 17: it had printed `parameters: none` and nothing else)."""
+    """As `check` does (rather than printing `parameters: none` and nothing else)."""
     (tmp_path / "m.rct").write_text("stm M {\n  initial i\n  state s {}\n  transition t0 { from i to s }\n}\n")
     out = CliRunner().invoke(cli, ["explore", str(tmp_path), "--format", "json"])
     assert out.exception is None or isinstance(out.exception, SystemExit), out.output

@@ -150,8 +150,8 @@ def test_tick_tock_includes_the_failures_check_at_the_end_of_a_trace(tmp_path) -
 def test_a_specification_that_ends_by_terminating_cannot_refuse_to(tmp_path: Path) -> None:
     """`a -> EndBy(SKIP, 0)` terminates after a, as `a -> SKIP` does: it cannot refuse ✓, so a
     machine stuck after a (S) does not refine it in the failures model, and one that terminates
-    (T) does, both ways.  Until session 13 EndBy's termination was an internal step into a
-    terminated state that refused everything, so S "refined" it (and T could not match it)."""
+    (T) does, both ways.  EndBy's termination is ✓, not an internal step into a terminated state
+    that refuses everything (with which S would "refine" it and T could not match it)."""
     rct = """\
 stm S {
   event a

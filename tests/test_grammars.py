@@ -50,8 +50,8 @@ def test_an_unwritable_cache_only_costs_time(monkeypatch: pytest.MonkeyPatch, tm
 
 
 def test_a_cache_others_may_write_is_never_loaded(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
-    """A cache file is a pickle: one in a directory others may write could run their code (review,
-    session 15: a mode-777 directory's planted file ran `os.system`)."""
+    """A cache file is a pickle: one in a directory others may write could run their code (a file
+    planted in a mode-777 directory would run `os.system`)."""
     _built(monkeypatch, tmp_path)
     folder = tmp_path / "tockbmc"
     [saved] = folder.iterdir()

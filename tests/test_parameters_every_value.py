@@ -4,8 +4,8 @@ so a claim that some run exists (a witness), or that each trace of a specificati
 shown by the runs of some values, gives no verdict for the others (`goals.one_value_only`).
 
 By hand, for KT with k in -1..1: only k = 1 reaches the final state f, so `KT terminates` and
-`f is reachable in KT` are violated at k = 0 (found before session 14: `holds` in both engines, the
-witness starting from k = 1); now `unknown`.  `KT does not terminate` is violated (the witness
+`f is reachable in KT` are violated at k = 0 (a witness starting from k = 1 does not show them for
+every value: `unknown`, not `holds`).  `KT does not terminate` is violated (the witness
 with k = 1 is a violation at that value), `s is not reachable in KT`, likewise.  Kd offers `a` at
 k = 1 and `b` otherwise, so `Q refines Kd` (Q = a -> STOP on the left) and `KB refines Kd` (Kd on
 the specification's side) fail at k = 0 (both were `holds`).
@@ -245,7 +245,7 @@ stm E {
 
 
 def test_a_witness_resting_on_any_value_the_model_leaves_open_gives_no_verdict(tmp_path: Path) -> None:
-    """Review, session 15: each said `holds`. A's initial value calls g, which has no parameters (a
+    """None of these is `holds`. A's initial value calls g, which has no parameters (a
     Z3 constant); B's constant rests on k1 (the replay took its value from the run); L applies a
     lambda outside its condition, Q reads an item past a sequence's end and divides by zero: any
     value there is possible (docs/semantics.md §6.4, §6.5), so no one run shows them for every value.
@@ -281,7 +281,7 @@ OPEN_VALUES = Path(__file__).parent / "models" / "open_values"
     ("q9c", {"D": "holds"}),
 ])
 def test_what_the_model_leaves_open(case: str, expected: dict[str, str]) -> None:
-    """Review, session 15: c1 said `holds` for a while, q9c `violated`, d1 ND and r3 Q `holds`."""
+    """Verdicts that rest on a value the model leaves open: c1, q9c, d1 ND and r3 Q."""
     ranges = Ranges({"core_int": Range(Fraction(-3), Fraction(3)), "core_nat": Range(Fraction(0), Fraction(3))})
     results = check(tockbmc.load(OPEN_VALUES / case), bound=10, ranges=ranges, timeout=60)
     assert {r.assertion: r.verdict for r in results} == expected, {r.assertion: r.reason for r in results}

@@ -65,8 +65,8 @@ def test_equals_holds_both_ways(tmp_path) -> None:
 def test_model_with_a_trace_the_spec_lacks(tmp_path) -> None:
     rs = run(tmp_path, "assertion R: M refines S2 in the traces model.\nassertion E: M equals S2.\n"
                        "assertion Back: S2 refines M in the traces model.\nassertion F: S2 equals M.\n")
-    # F: equality with the specification written first is still refinement both ways (until session 7 it
-    # checked only that S2's traces are M's, and said "holds").
+    # F: equality with the specification written first is still refinement both ways (not only that S2's
+    # traces are M's, which would say "holds").
     for name in ("R", "E", "F"):
         assert rs[name].verdict == "violated"
         assert visible(rs[name]) == ["M::a.in", "M::b.out"]

@@ -1089,7 +1089,7 @@ stm M {
 def test_rule15_defined_and_uninterpreted_functions(tmp_path) -> None:
     """§2.15: dbl is defined (dbl(3) == 6 only); g is uninterpreted apart from result > a, so
     g(3) may be 100 but never <= 3. Every such g is considered: `zbig is reachable` needs g(3) == 100,
-    so it does not hold for every g (it was `holds`, a witness that chose g; session 15). `six is
+    so it does not hold for every g (a witness that chose g would say `holds`). `six is
     reachable` holds for every g: its witness runs s's entry, which calls g, so the interpreter
     cannot replay it, but with its moves fixed no g falsifies a guard on its way
     (`bmc.interpretations`)."""

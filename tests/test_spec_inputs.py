@@ -164,7 +164,7 @@ untimed assertion W : M refines W in the traces model
 
 def test_a_variable_an_operation_requires_from_its_calling_operation_is_that_operation_s(tmp_path: Path) -> None:
     """RoboChart: the caller provides what an operation requires.  A machine's own variable does
-    (the first test); so does a variable the calling operation declares (ops4's opA/opB, session 13):
+    (the first test); so does a variable the calling operation declares (ops4's opA/opB):
     here Inc increments Outer's own i, so the machine's i, output after Outer(), is what came in
     (S holds, E, which wants it plus one, is violated), in both engines."""
     rct = BUFFER.replace("state S1 { entry Inc() ; Out!i }", "state S1 { entry Outer() ; Out!i }").replace(
@@ -426,8 +426,8 @@ def _prefixes(text: str, name: str, *args: object) -> list[tuple]:
 
 
 def test_a_restricted_input_reads_the_inputs_before_it() -> None:
-    """In `c?x:S?y:{x}` and `c?x:S!x` the later fields read the x just bound, not an outer one (review
-    finding: `P(7)` offered c.0.7 and c.1.7); `?x:{}` offers nothing (STOP); a set holding a value the
+    """In `c?x:S?y:{x}` and `c?x:S!x` the later fields read the x just bound, not an outer one (`P(7)`
+    offers c.0.0 and c.1.1, not c.0.7 and c.1.7); `?x:{}` offers nothing (STOP); a set holding a value the
     specification does not track (an input that is not listed) is refused, as `c!y` is."""
     text = "P(x) = M::c?x:{0, 1}!x -> STOP\nQ = M::c?x:{0, 1}?y:{x} -> STOP\nE = M::c?x:{} -> STOP\n"
     assert _prefixes(text, "P", 7) == [("M::c", 0, 0), ("M::c", 1, 1)]

@@ -204,7 +204,7 @@ def _report_file(ctx: click.Context, param: click.Parameter, value: str | None) 
 
 def default_jobs() -> int:
     """The number of cores.  Measured on two cores, idle, RoboTool's suite (`benchmarks/conformance.py
-    --timeout 20`): 107 s with `-j 2` against 200 s with `-j 1` (session 7), since many checks
+    --timeout 20`): 107 s with `-j 2` against 200 s with `-j 1`, since many checks
     leave the second core idle (Spacer does not apply, or a check waits out its timeout)."""
     return max(1, os.cpu_count() or 1)
 

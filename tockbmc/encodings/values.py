@@ -967,8 +967,8 @@ def _collection(e: ast.Expr, operands: list[Value]) -> Value:
         assert not isinstance(index, dict)
         # Outside 1..#s Z3's `nth` is unspecified: any value, as a function outside its
         # precondition (`bmc.interpretations` tells a witness that rests on it). An uninterpreted
-        # function there instead (session 15) slowed Z3 down on RoboArch's SkillsManager, and
-        # made it fail ("Overflow encountered when expanding vector").
+        # function there instead slows Z3 down on RoboArch's SkillsManager, and makes it fail
+        # ("Overflow encountered when expanding vector").
         return unpack(value[index - 1], e.type)
     assert isinstance(e, ast.Builtin)
     return _builtin(e, operands)

@@ -731,7 +731,7 @@ def _included(a: ast.Assertion, q: Query, search: Search, result: Callable[..., 
         return _observed(a, q, search, result, wanted)
     if a.semantic_model == "failures divergences":
         # A divergence on a prefix of a listed trace allows every later trace and refusal, which the
-        # listing does not see (before session 14: a false `violated`); the pairs below do.
+        # listing does not see (it alone would give a false `violated`); the pairs below do.
         return _subsets(a, q, search, result, channels)
     traces, length = spec_traces(sem, q.inclusion, channels, wanted, 256)
     if length < wanted:  # too many to list: follow the element's configurations after each trace at once
