@@ -149,8 +149,8 @@ assertion W1: f is reachable in W.
 
 def test_a_witness_that_chose_what_a_function_without_a_body_computes_gives_no_verdict(tmp_path: Path) -> None:
     """A claim holds when it holds whatever a function without a body computes (docs/semantics.md
-    §6.4): BMC's witness for `f is reachable in U` chose g(0) = 1 (it said `holds`; review, session
-    15), and V's chose h(0), outside h's precondition, through twice's body. W calls h only inside
+    §6.4): BMC's witness for `f is reachable in U` chose g(0) = 1 (which would
+    say `holds`), and V's chose h(0), outside h's precondition, through twice's body. W calls h only inside
     its precondition, where the body fixes it: the interpreter, which evaluates no function without
     a body, replays the witness whole, so it stands whatever the functions compute. Violations
     stand: some g makes each. (The open reading: by default g is RoboTool's placeholder.)"""
