@@ -74,8 +74,8 @@ stm Echo {
 
 
 def test_a_bidirectional_port_also_joined_to_another_machine_is_unsupported(tmp_path: Path) -> None:
-    """Review finding: `m1 on e to m2 on e` beside `m1 on e to C on e [ mult ]` is an event in two
-    connections (docs/semantics.md §10); BMC skipped the second and said `C refines STOP` held."""
+    """`m1 on e to m2 on e` beside `m1 on e to C on e [ mult ]` is an event in two connections
+    (docs/semantics.md §10); BMC must not skip the second (which would make `C refines STOP` hold)."""
     write_files(tmp_path, {"m.rct": """
 package b
 interface IE { event e : int }
@@ -99,8 +99,8 @@ def test_a_platform_connection_joins_the_controllers_whole_channel(tmp_path: Pat
     """`[ mult ]` inside the controller, one-way at the module.  RoboTool renames the controller's
     whole channel at the module (`ctrl_ref1::receive <- receive`, `[ mult ]` or not), so both
     directions are `Mod::e`: M1 holds and M2 (an output on `C::e`) is violated, in both engines.
-    (A review had found BMC carrying both directions as `Mod::e` while the explicit engine kept the
-    output as `C::e.out`: a ReplayFailure, exit 1.)"""
+    (BMC carrying both directions as `Mod::e` while the explicit engine kept the output as
+    `C::e.out` would be a ReplayFailure, exit 1.)"""
     write_files(tmp_path, {"m.rct": ECHO_AND_CONTROLLER + """
 controller C { uses IE sref m = Echo connection m on e to C on e [ mult ] }
 module Mod { robotic platform P { uses IE } cref c = C connection P on e to c on e }
@@ -120,7 +120,7 @@ def test_a_machine_receiving_on_an_event_drawn_outwards_receives_the_controllers
     """RoboTool renames the machine's whole channel (`stm_ref0::broadcast <- broadcast` for
     AlphaAlgorithm's `connection stm_ref0 on broadcast to CommunicationC on broadcast`, whose
     machine also receives on it), so Echo's input on `e` is `C::e.in` though the connection is drawn
-    from Echo to C.  The engines read it differently before (a review's `bidi3pre`)."""
+    from Echo to C, in both engines."""
     write_files(tmp_path, {"m.rct": ECHO_AND_CONTROLLER + """
 controller C { uses IE sref m = Echo connection m on e to C on e }
 """, "m.assertions": """import b::*

@@ -1191,9 +1191,9 @@ untimed assertion A2: pk::M refines NoBlue in the traces model.
 
 
 def test_a_channel_named_like_a_package_enumeration_stays_a_channel(tmp_path) -> None:
-    """Review finding: with `enumeration Mode` in package Arm and `event Mode` of machine Arm,
+    """With `enumeration Mode` in package Arm and `event Mode` of machine Arm,
     `Arm::Mode.in?x` is the event's channel; reading `Arm::Mode` as the type's set of literals
-    left both assertions unsupported.  S1 accepts any mode (holds); S3 only On (violated by Off)."""
+    would leave both assertions unsupported.  S1 accepts any mode (holds); S3 only On (violated by Off)."""
     rct = """
 package Arm
 enumeration Mode { On Off }

@@ -69,8 +69,8 @@ def test_a_parameter_is_a_constant_stated_with_where_its_value_came_from() -> No
 
 
 def test_a_state_qualified_by_the_operations_name(tmp_path: Path) -> None:
-    """Review finding: `addk::s is reachable in addk` was violated in both engines (the view is
-    named `OP_addk`, and only that name qualified its states); RoboTool's users name the operation."""
+    """`addk::s is reachable in addk` names the state by the operation, as RoboTool's users do, not
+    only by its view `OP_addk` (which alone would leave it violated in both engines)."""
     (tmp_path / "ops.rct").write_text((MODEL / "ops.rct").read_text())
     (tmp_path / "r.assertions").write_text("import ops::*\nassertion R1: addk::s is reachable in addk .\n"
                                            "assertion R2: ops::addk::s is reachable in addk .\n"

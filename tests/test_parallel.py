@@ -299,7 +299,7 @@ def test_a_lone_assertion_decided_here_is_given_up_at_its_hard_limit(tmp_path: P
 
 
 def test_a_result_that_comes_within_the_grace_is_kept(tmp_path: Path) -> None:
-    """Review finding: a check finishing in the grace after it was given up had come out 'interrupted'."""
+    """A check finishing in the grace after it was given up keeps its result, not 'interrupted'."""
     from tockbmc.interrupt import decide
 
     project = load(counter_project(tmp_path))

@@ -251,7 +251,7 @@ untimed assertion N : CT refines S in the traces model
         assert results["N"].verdict == "holds", results["N"].reason
 
 
-# Found by review: the values the interpreter lists must be those BMC's runs can take, or a
+# The values the interpreter lists must be those BMC's runs can take, or a
 # specification that names (or reads) every listed value treats an unlisted one wrongly.
 ECHO_REAL = """
 interface IE { event inp : real  event f  event g }
@@ -337,7 +337,7 @@ timed assertion L : M refines Low in the traces model
 
 
 def test_replicated_operators_over_sets_they_cannot_read_off_exactly(tmp_path: Path) -> None:
-    """Found by review: `diff({|M::a|}, diff(Events, {|M::b|}))` is empty, but the channel was kept
+    """`diff({|M::a|}, diff(Events, {|M::b|}))` is empty, but the channel was kept
     (a wrong `holds`): a difference whose removed set's extent is not read off is unsupported.
     `union({|M::a.in|}, {M::a.in})` is one event, but `|||` ran two copies (a wrong `holds`): a
     member a closure covers is dropped.  An `if` on an enumeration literal no longer crashes."""
