@@ -47,6 +47,32 @@ stm Keep {
 }
 """
 
+# A composite state whose exit action reads `a`, a junction whose conditions read the input `b`,
+# and `c`, written on the way out and never read.
+NESTED = """
+interface J { event e : int event f }
+stm Nested {
+	uses J
+	var a : int
+	var b : int
+	var c : int
+	initial i
+	state P {
+		exit c = a
+		initial j
+		state Q { }
+		transition u { from j to Q }
+	}
+	junction K
+	state R { }
+	transition t0 { from i to P }
+	transition t1 { from P to K trigger e?b }
+	transition t2 { from K to R condition b > 0 }
+	transition t3 { from K to R condition b <= 0 action a = 0 }
+	transition t4 { from R to P trigger f }
+}
+"""
+
 ASSERTIONS = """
 timed csp NoPutTwo csp-begin
 NoPutTwo = CHAOS(diff(Events, {| Forward::put.out.2 |}))
@@ -104,3 +130,11 @@ def test_the_reduction_keeps_every_verdict_with_fewer_configurations(model: Path
         assert len([s for s in r.trace if s.kind != "internal"]) == len([s for s in f.trace if s.kind != "internal"]), name
     assert reduced["F2"].verdict == "violated"
     assert reduced["F1"].extra["states"] < full["F1"].extra["states"]
+
+
+def test_an_exit_action_keeps_what_it_reads_live_in_the_states_below(tmp_path: Path) -> None:
+    (tmp_path / "m.rct").write_text(NESTED)
+    g = _graph(tmp_path, "Nested")
+    dead = {state: {name for _, name in names} for state, names in liveness.dead_at_rest(g, g.b.variables).items()}
+    assert dead["P::Q"] == {"b", "c"}  # leaving P runs its exit, which reads a; the trigger writes b first
+    assert dead["R"] == {"b", "c"}  # t4 leads back into P::Q, where a is live
