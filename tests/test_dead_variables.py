@@ -138,3 +138,53 @@ def test_an_exit_action_keeps_what_it_reads_live_in_the_states_below(tmp_path: P
     dead = {state: {name for _, name in names} for state, names in liveness.dead_at_rest(g, g.b.variables).items()}
     assert dead["P::Q"] == {"b", "c"}  # leaving P runs its exit, which reads a; the trigger writes b first
     assert dead["R"] == {"b", "c"}  # t4 leads back into P::Q, where a is live
+
+
+# Trigger deadlines are read wherever the machine is: every bound at each step, and the condition
+# of an ancestor's deadline transition at a junction below it (`d` is written again before `go`
+# is taken, and `y` is read at the initial junction of P, where the machine may stay).
+DEADLINES = {
+    "bound": """
+interface I { event go event back }
+stm M {
+  uses I
+  var d : int
+  initial i
+  state A {}
+  state B {}
+  transition t0 { from i to A action d = 1 }
+  transition t1 { from A to B trigger go <{d} }
+  transition t2 { from B to A trigger back action d = 1 }
+}
+""",
+    "condition at a junction": """
+interface I { event go event e event back }
+stm M {
+  uses I
+  var y : int = 1
+  var z : int = 0
+  initial i
+  state S {}
+  state P {
+    initial j
+    state Q {}
+    transition u { from j to Q condition z > 0 action y = 1 }
+  }
+  state R {}
+  transition t0 { from i to S }
+  transition t1 { from S to P trigger go }
+  transition t2 { from P to R trigger e <{1} condition y == 1 }
+  transition t3 { from R to S trigger back }
+}
+""",
+}
+
+
+@pytest.mark.parametrize("case", sorted(DEADLINES))
+def test_what_trigger_deadlines_read_stays_live(case: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "m.rct").write_text(DEADLINES[case])
+    (tmp_path / "m.assertions").write_text("timed assertion D: M is deadlock-free.\ntimed assertion T: M is timelock-free.\n")
+    reduced = _results(tmp_path, True, monkeypatch)
+    full = _results(tmp_path, False, monkeypatch)
+    assert {n: r.verdict for n, r in reduced.items()} == {n: r.verdict for n, r in full.items()} == \
+        {"D": "holds", "T": "violated"}

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 from fractions import Fraction
+from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -168,3 +169,33 @@ def test_a_specification_elements_tuple_values_are_named_as_the_models() -> None
     small = Ranges({"core_int": Range(Fraction(-1), Fraction(1)), "core_nat": Range(Fraction(0), Fraction(1))})
     [r] = check_explicit(load(CONFORMANCE / "robochart" / "test-vector-matrix"), ["A1"], 12, small, {}, 60, 100_000)
     assert r.verdict == "holds", r.reason
+
+
+def test_a_lazy_run_reached_two_ways_is_made_concrete(tmp_path: Path) -> None:
+    """S1 is reached by a?x after go and by b?x then an internal step: equal configurations
+    holding different Unknowns, which the lazy search must not take one for the other (the run
+    to S2 is made concrete, its value of x chosen where it was received)."""
+    (tmp_path / "m.rct").write_text("""
+interface I { event go event a : int event b : int }
+stm M {
+ uses I
+ var x : int
+ initial i
+ state S0 {}
+ state X {}
+ state Y {}
+ state S1 {}
+ state S2 {}
+ transition t0 { from i to S0 }
+ transition t1 { from S0 to X trigger go }
+ transition t2 { from S0 to Y trigger b?x }
+ transition t3 { from X to S1 trigger a?x }
+ transition t4 { from Y to S1 }
+ transition t5 { from S1 to S2 condition x == 1 }
+}
+""")
+    (tmp_path / "m.assertions").write_text("timed assertion R: S2 is not reachable in M.\n")
+    [r] = check_explicit(load(tmp_path), None, 10, Ranges({"core_int": Range(Fraction(-1), Fraction(1))}), {},
+                         timeout=60)
+    assert r.verdict == "violated"
+    assert [s.event for s in r.trace if s.kind != "internal"] == ["M::b.in.1"]

@@ -133,3 +133,17 @@ def test_the_reduction_explores_fewer_configurations(tmp_path: Path, monkeypatch
     full = _results(tmp_path, False, monkeypatch)["P4"]
     assert reduced.verdict == full.verdict == "holds"
     assert reduced.extra["states"] < full.extra["states"]
+
+
+def test_an_internal_step_back_to_the_same_configuration_does_not_hide_the_others(tmp_path: Path) -> None:
+    """The cycle proviso for a loop: Spinner's step from s0 to s0 changes nothing, so the reduced
+    graph would take it for ever; the node is expanded in full, and Talker's e, f are found."""
+    looping = MODEL.replace("transition t1 { from s0 to s0 action z = 1 - z }", "transition t1 { from s0 to s0 }")
+    assert looping != MODEL
+    folder = tmp_path / "loop"
+    folder.mkdir()
+    (folder / "m.rct").write_text(looping)
+    (folder / "m.assertions").write_text(ASSERTIONS)
+    [r] = check_explicit(load(folder), ["D1"], 12, RANGES, {}, timeout=120)
+    assert r.verdict == "violated"
+    assert [s.event for s in r.trace if s.kind != "internal"] == ["Diverging::e.in", "Diverging::f.in"]

@@ -24,7 +24,17 @@ from fractions import Fraction
 from functools import partial
 from typing import NamedTuple, cast
 
-from tockbmc.explicit.interpreter import Config, Interpreter, NotInterpretable, Split, Step, Unbounded, fill, unknowns
+from tockbmc.explicit.interpreter import (
+    Config,
+    Interpreter,
+    NotInterpretable,
+    Split,
+    Step,
+    Unbounded,
+    fill,
+    has_unknowns,
+    unknowns,
+)
 from tockbmc.explicit.lts import element_lts
 from tockbmc.model import ast, probabilistic
 from tockbmc.model.config import Configuration, Setup, configure
@@ -202,9 +212,10 @@ class Search:
         # With configurations that split, only one `expand` gave (whose steps read no Unknown) is reduced.
         if self.reduce and (hit is not None or not self.interp.splits):
             ample, known = self.interp.private_steps(config)
-            # The cycle proviso: a node whose ample step leads to a node already expanded is expanded
-            # in full, so that on every cycle of the reduced graph the node expanded last is.
-            if ample is not None and not any((st.target, mon) in self.succ for st in ample):
+            # The cycle proviso: a node whose ample step leads to a node already expanded, or back
+            # to itself, is expanded in full, so that on every cycle of the reduced graph (a loop
+            # included) the node expanded last is.
+            if ample is not None and not any(st.target == config or (st.target, mon) in self.succ for st in ample):
                 hit = (config, self._canonical(ample))
         if hit is None:
             if self.interp.splits:
@@ -248,10 +259,16 @@ class Search:
 
     def _canonical(self, steps: list[Step]) -> list[Step]:
         """`steps`, each leading to the one object of its target configuration that the search
-        keeps: a configuration reached again is stored once, not once per step into it."""
+        keeps: a configuration reached again is stored once, not once per step into it. Not one
+        that holds Unknowns: equal ones may hold different Unknowns, which a lazy run's steps tell
+        apart by identity (`Interpreter.concretize`)."""
         out = []
         canon = self.configs
+        lazy = self.interp.lazy
         for st in steps:
+            if lazy and has_unknowns(st.target):
+                out.append(st)
+                continue
             target = canon.setdefault(st.target, st.target)
             out.append(st if target is st.target else Step(st.kind, st.event, target, st.note))
         return out

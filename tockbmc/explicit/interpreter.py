@@ -312,6 +312,11 @@ def _unknown_in(v: object) -> Unknown | None:
     return None
 
 
+def has_unknowns(config: Config) -> bool:
+    """Whether a configuration holds a value not chosen yet (lazy mode), anywhere in it."""
+    return _unknown_in(config.store) is not None or _unknown_in(config.machines) is not None
+
+
 def _holds(v: object, u: Unknown) -> bool:
     """Whether `u` itself (not an equal Unknown) is in the value `v`."""
     if v is u:
@@ -756,7 +761,10 @@ class _Ctx:
 
     def get(self, s: int) -> object:
         u = self.upd
-        return u[s] if s in u else self.base[s]
+        v = u[s] if s in u else self.base[s]
+        if v is liveness.DEAD:  # the liveness analysis said no run reads it here: a bug, stop rather than guess
+            raise AssertionError(f"slot {s} was read where the liveness analysis found it dead")
+        return v
 
     def set(self, s: int, v: object) -> None:
         self.upd[s] = v

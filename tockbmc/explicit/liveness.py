@@ -6,14 +6,16 @@ never read again (an input already forwarded, a move already carried out) multip
 nothing. Where a machine rests in a state, its dead variables are set to one value (`DEAD`), so
 that configurations that differ only there are one (dead-variable reduction, as explicit-state
 checkers do). A read of `DEAD` would be an error of this analysis, and it fails loudly: the
-interpreter cannot compute with it.
+interpreter's every read of a variable (`_Ctx.get`) refuses it.
 
 The analysis is the usual backward one, over the machine's graph as the interpreter runs it
 (docs/semantics.md §4): from a state at rest, a transition of the state or of an ancestor is taken
 (its trigger's input written first, then its condition read), the states it leaves are exited
 (innermost first), its action runs, the states it enters are entered (outermost first), and the
 run goes on from the target: through a junction's transitions, into a composite state's initial
-junction, or to rest in a leaf. `live(s)` is the least set closed under those paths. Machines
+junction, or to rest in a leaf. `live(s)` is the least set closed under those paths, and what
+trigger deadlines read is live everywhere (the interpreter reads every bound at each step, and an
+ancestor's deadline condition at junctions too). Machines
 that call defined operations or run `during` actions are left alone (those read the machine's
 variables from places this analysis does not follow).
 """
@@ -48,6 +50,7 @@ class Graph(Protocol):
 
     nodes: dict[str, ast.Node]
     initial: dict[str | None, str]
+    deadlines: list[ast.Transition]  # the transitions with a trigger deadline
 
     def candidates(self, path: str) -> list[ast.Transition]: ...
 
@@ -143,7 +146,11 @@ def dead_at_rest(g: Graph, own: Iterable[ast.Variable]) -> dict[str, frozenset[K
             after = after | _reads(t.condition)
         return after | _reads(t.deadline)
 
-    step: Callable[[str], set[Key]] = lambda p: set().union(*(taken(p, t) for t in g.candidates(p)))  # noqa: E731
+    # Trigger deadlines are read at rest and beyond: every deadline's bound at each step, and the
+    # condition of a deadline transition of any ancestor while the machine is anywhere below it,
+    # junctions included (the interpreter's `_armed`). What they read is live everywhere.
+    always = set().union(*(_reads(t.deadline) | _reads(t.condition) for t in g.deadlines))
+    step: Callable[[str], set[Key]] = lambda p: always.union(*(taken(p, t) for t in g.candidates(p)))  # noqa: E731
     try:
         changed = True
         while changed:
