@@ -103,18 +103,10 @@ def analysable(b: ast.Behaviour, defined: Callable[[ast.OperationCall], bool]) -
     for n in b.nodes:
         if n.during is not None:
             return False
-    for st in _statements(b):
+    for st in ast.behaviour_statements(b):
         if isinstance(st, ast.OperationCall) and (not isinstance(st.operation, ast.OperationSig) or defined(st)):
             return False
     return True
-
-
-def _statements(b: ast.Behaviour) -> Iterable[ast.Stmt]:
-    for n in b.nodes:
-        for a in (n.entry, n.during, n.exit):
-            yield from ast.statements(a)
-    for t in b.transitions:
-        yield from ast.statements(t.action)
 
 
 def dead_at_rest(g: Graph, own: Iterable[ast.Variable]) -> dict[str, frozenset[Key]]:

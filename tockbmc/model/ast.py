@@ -946,21 +946,25 @@ def event_directions(behaviour: Behaviour) -> tuple[set[str], set[str]]:
     sends: set[str] = set()
     receives: set[str] = set()
 
-    def walk(s: Stmt | None) -> None:
-        for st in statements(s):
-            if isinstance(st, Send):
-                sends.add(st.event.name)
-            elif isinstance(st, Receive):
-                receives.add(st.event.name)
-
-    for n in behaviour.nodes:
-        for a in (n.entry, n.during, n.exit):
-            walk(a)
+    for st in behaviour_statements(behaviour):
+        if isinstance(st, Send):
+            sends.add(st.event.name)
+        elif isinstance(st, Receive):
+            receives.add(st.event.name)
     for t in behaviour.transitions:
         if t.trigger is not None:
             (sends if t.trigger.kind == "output" else receives).add(t.trigger.event.name)
-        walk(t.action)
     return sends, receives
+
+
+def behaviour_statements(behaviour: Behaviour) -> Iterator[Stmt]:
+    """Every statement of a behaviour's actions: its nodes' entry, during and exit actions, then
+    its transitions' actions, nested ones included (`statements`)."""
+    for n in behaviour.nodes:
+        for a in (n.entry, n.during, n.exit):
+            yield from statements(a)
+    for t in behaviour.transitions:
+        yield from statements(t.action)
 
 
 def uses_event(behaviours: Iterable[Behaviour], event: str, sends: bool) -> bool:
